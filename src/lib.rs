@@ -1,0 +1,10 @@
+//! squeal: brake-squeal prediction on industrial-size finite-element models, and how far a
+//! reduced model can stand in for the full one (Fazio, Nacivet, Sinou 2015).
+//!
+//! Stages, each using only the ones before it: [`mesh`] -> [`fem`] -> analysis -> reduction
+//! -> study. [`petsc`] is the only module with `unsafe`.
+
+pub mod fem;
+pub mod mesh;
+pub mod petsc;
+pub mod study;

@@ -1,0 +1,12 @@
+//! The mesh stage: the model's geometry and topology as plain Rust data, the readers that
+//! make it from files, the built-in brake, and the VTU writer that shows it.
+
+pub mod abaqus;
+pub mod brake;
+mod error;
+pub mod gmsh;
+mod model;
+pub mod vtu;
+
+pub use error::MeshError;
+pub use model::*;

@@ -1,0 +1,266 @@
+//! Linear eigenvalue problems (SLEPc `EPS`): A x = lambda B x, Hermitian or not, with
+//! shift-and-invert around a target through a direct factorisation. Partial convergence is a
+//! result that says how many pairs converged, never a panic.
+
+use super::error::{check, PetscError, Result};
+use super::ksp::{configure, LinearMethod};
+use super::mat::Matrix;
+use super::runtime::{Comm, Runtime};
+use super::sys;
+use super::vec::{to_int, Vector};
+use num_complex::Complex64;
+use std::marker::PhantomData;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EigenProblem {
+    /// A, B symmetric, B positive definite (real modes).
+    HermitianGeneralized,
+    /// A unsymmetric (friction), B = mass.
+    NonHermitianGeneralized,
+    /// A x = lambda x, A symmetric.
+    Hermitian,
+    /// A x = lambda x.
+    NonHermitian,
+}
+
+/// Which eigenvalues to compute.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Spectrum {
+    /// The `count` eigenvalues closest to `target` (shift-and-invert about it).
+    NearTarget { target: f64, count: usize },
+    /// Every eigenvalue in [low, high] (Hermitian problems only: spectrum slicing with the
+    /// inertia of LDL^T factorisations, so none is missed or found twice).
+    Interval { low: f64, high: f64 },
+    /// The `count` eigenvalues of largest magnitude (no transform).
+    Largest { count: usize },
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct EigenOptions {
+    pub problem: EigenProblem,
+    pub spectrum: Spectrum,
+    /// Relative tolerance of the residual.
+    pub tolerance: f64,
+    pub max_iterations: usize,
+    /// Factorisation of (A - target B) for shift-and-invert.
+    pub linear: LinearMethod,
+}
+
+impl Default for EigenOptions {
+    fn default() -> Self {
+        EigenOptions {
+            problem: EigenProblem::HermitianGeneralized,
+            spectrum: Spectrum::NearTarget {
+                target: 0.0,
+                count: 10,
+            },
+            tolerance: 1e-10,
+            max_iterations: 1000,
+            linear: LinearMethod::default(),
+        }
+    }
+}
+
+/// What a solve found.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EigenSummary {
+    /// How many pairs were asked for (0 for an interval: unknown in advance).
+    pub requested: usize,
+    pub converged: usize,
+    pub iterations: usize,
+    /// SLEPc's reason code (negative: stopped before all requested pairs converged).
+    pub reason: i32,
+}
+
+pub struct EigenSolver<'rt> {
+    raw: sys::EPS,
+    summary: Option<EigenSummary>,
+    requested: usize,
+    _rt: PhantomData<&'rt Runtime>,
+}
+
+impl<'rt> EigenSolver<'rt> {
+    /// Sets up the problem A x = lambda B x (collective). SLEPc options (`-eps_*`, `-st_*`)
+    /// given at start-up override `options`.
+    pub fn new(
+        comm: Comm<'rt>,
+        a: &Matrix<'rt>,
+        b: Option<&Matrix<'rt>>,
+        options: &EigenOptions,
+    ) -> Result<Self> {
+        let mut raw = std::ptr::null_mut();
+        // SAFETY: out-pointer; matrices are live and outlive the solver's use of them
+        // (SLEPc holds references).
+        check(unsafe { sys::EPSCreate(comm.raw, &mut raw) })?;
+        let mut solver = EigenSolver {
+            raw,
+            summary: None,
+            requested: 0,
+            _rt: PhantomData,
+        };
+        let problem = match options.problem {
+            EigenProblem::HermitianGeneralized => sys::EPS_GHEP,
+            EigenProblem::NonHermitianGeneralized => sys::EPS_GNHEP,
+            EigenProblem::Hermitian => sys::EPS_HEP,
+            EigenProblem::NonHermitian => sys::EPS_NHEP,
+        };
+        // SAFETY: live handles; constants are NUL-terminated.
+        unsafe {
+            check(sys::EPSSetOperators(
+                raw,
+                a.raw,
+                b.map_or(std::ptr::null_mut(), |b| b.raw),
+            ))?;
+            check(sys::EPSSetProblemType(raw, problem))?;
+            check(sys::EPSSetType(raw, sys::EPSKRYLOVSCHUR.as_ptr().cast()))?;
+            check(sys::EPSSetTolerances(
+                raw,
+                options.tolerance,
+                to_int(options.max_iterations)?,
+            ))?;
+            let mut st = std::ptr::null_mut();
+            check(sys::EPSGetST(raw, &mut st))?;
+            match options.spectrum {
+                Spectrum::NearTarget { target, count } => {
+                    solver.requested = count;
+                    check(sys::EPSSetDimensions(
+                        raw,
+                        to_int(count)?,
+                        sys::PETSC_DEFAULT,
+                        sys::PETSC_DEFAULT,
+                    ))?;
+                    check(sys::EPSSetTarget(raw, target))?;
+                    check(sys::EPSSetWhichEigenpairs(raw, sys::EPS_TARGET_MAGNITUDE))?;
+                    check(sys::STSetType(st, sys::STSINVERT.as_ptr().cast()))?;
+                    let mut ksp = std::ptr::null_mut();
+                    check(sys::STGetKSP(st, &mut ksp))?;
+                    configure(ksp, &options.linear)?;
+                }
+                Spectrum::Interval { low, high } => {
+                    if !matches!(
+                        options.problem,
+                        EigenProblem::HermitianGeneralized | EigenProblem::Hermitian
+                    ) {
+                        return Err(PetscError::Invalid(
+                            "an eigenvalue interval needs a Hermitian problem".into(),
+                        ));
+                    }
+                    check(sys::EPSSetInterval(raw, low, high))?;
+                    check(sys::EPSSetWhichEigenpairs(raw, sys::EPS_ALL))?;
+                    check(sys::STSetType(st, sys::STSINVERT.as_ptr().cast()))?;
+                    // Slicing counts eigenvalues by the inertia of LDL^T factorisations made
+                    // inside SLEPc's own sub-solvers, which take their settings from the
+                    // options database, not from our ST. A prefix of our own keeps these
+                    // settings away from every other solver in the process.
+                    let package = match &options.linear {
+                        LinearMethod::Direct {
+                            package: super::ksp::DirectPackage::SuperluDist,
+                            ..
+                        } => "superlu_dist",
+                        _ => "mumps",
+                    };
+                    check(sys::EPSSetOptionsPrefix(raw, c"squeal_slice_".as_ptr()))?;
+                    for (key, value) in [
+                        ("-squeal_slice_st_ksp_type", "preonly"),
+                        ("-squeal_slice_st_pc_type", "cholesky"),
+                        ("-squeal_slice_st_pc_factor_mat_solver_type", package),
+                        // MUMPS computes the inertia in parallel only when asked (ICNTL 13).
+                        ("-squeal_slice_st_mat_mumps_icntl_13", "1"),
+                    ] {
+                        let key = std::ffi::CString::new(key).expect("no NUL");
+                        let value = std::ffi::CString::new(value).expect("no NUL");
+                        check(sys::PetscOptionsSetValue(
+                            std::ptr::null_mut(),
+                            key.as_ptr(),
+                            value.as_ptr(),
+                        ))?;
+                    }
+                }
+                Spectrum::Largest { count } => {
+                    solver.requested = count;
+                    check(sys::EPSSetDimensions(
+                        raw,
+                        to_int(count)?,
+                        sys::PETSC_DEFAULT,
+                        sys::PETSC_DEFAULT,
+                    ))?;
+                    check(sys::EPSSetWhichEigenpairs(raw, sys::EPS_LARGEST_MAGNITUDE))?;
+                }
+            }
+            check(sys::EPSSetFromOptions(raw))?;
+        }
+        Ok(solver)
+    }
+
+    /// Runs the solver (collective). Returns how many pairs converged; fewer than requested
+    /// is reported in the summary, not as an error.
+    pub fn solve(&mut self) -> Result<EigenSummary> {
+        let (mut nconv, mut its, mut reason) = (0, 0, 0);
+        // SAFETY: live EPS; out-pointers to locals.
+        unsafe {
+            check(sys::EPSSolve(self.raw))?;
+            check(sys::EPSGetConverged(self.raw, &mut nconv))?;
+            check(sys::EPSGetIterationNumber(self.raw, &mut its))?;
+            check(sys::EPSGetConvergedReason(self.raw, &mut reason))?;
+        }
+        let summary = EigenSummary {
+            requested: self.requested,
+            converged: nconv as usize,
+            iterations: its as usize,
+            reason,
+        };
+        self.summary = Some(summary.clone());
+        Ok(summary)
+    }
+
+    fn check_index(&self, i: usize) -> Result<sys::PetscInt> {
+        let n = self.summary.as_ref().map_or(0, |s| s.converged);
+        if i >= n {
+            return Err(PetscError::Invalid(format!(
+                "eigenpair {i} requested but {n} converged"
+            )));
+        }
+        to_int(i)
+    }
+
+    /// Eigenvalue i (complex in general; a conjugate pair is two consecutive indices).
+    pub fn value(&self, i: usize) -> Result<Complex64> {
+        let i = self.check_index(i)?;
+        let (mut re, mut im) = (0.0, 0.0);
+        // SAFETY: index checked; out-pointers.
+        check(unsafe { sys::EPSGetEigenvalue(self.raw, i, &mut re, &mut im) })?;
+        Ok(Complex64::new(re, im))
+    }
+
+    /// Relative residual |A x - lambda B x| / |lambda x| of pair i (collective).
+    pub fn relative_error(&self, i: usize) -> Result<f64> {
+        let i = self.check_index(i)?;
+        let mut e = 0.0;
+        // SAFETY: index checked.
+        check(unsafe { sys::EPSComputeError(self.raw, i, sys::EPS_ERROR_RELATIVE, &mut e) })?;
+        Ok(e)
+    }
+
+    /// Pair i: the eigenvalue and the real and imaginary parts of its vector, laid out like
+    /// `template` (a vector of the operator's column layout). Collective.
+    pub fn pair(
+        &self,
+        i: usize,
+        template: &Vector<'rt>,
+    ) -> Result<(Complex64, Vector<'rt>, Vector<'rt>)> {
+        let i = self.check_index(i)?;
+        let xr = template.duplicate()?;
+        let xi = template.duplicate()?;
+        let (mut re, mut im) = (0.0, 0.0);
+        // SAFETY: index checked; vectors have the operator's layout.
+        check(unsafe { sys::EPSGetEigenpair(self.raw, i, &mut re, &mut im, xr.raw, xi.raw) })?;
+        Ok((Complex64::new(re, im), xr, xi))
+    }
+}
+
+impl Drop for EigenSolver<'_> {
+    fn drop(&mut self) {
+        // SAFETY: we own the handle.
+        unsafe { sys::EPSDestroy(&mut self.raw) };
+    }
+}

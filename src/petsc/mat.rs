@@ -1,0 +1,299 @@
+//! Sparse matrices (`Mat`, parallel AIJ). The nonzero pattern is given first, exactly, so
+//! PETSc never allocates during assembly; values then go in as dense element blocks.
+
+use super::error::{check, PetscError, Result};
+use super::runtime::{Comm, Runtime};
+use super::sys;
+use super::vec::{to_int, Vector};
+use std::marker::PhantomData;
+
+/// The exact nonzero pattern of the rows a rank owns, in CSR form with global column indices
+/// sorted within each row.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct RowPattern {
+    /// Number of columns this rank owns (the local size of the vector the matrix multiplies).
+    pub local_cols: usize,
+    /// `row_start[i]..row_start[i+1]` indexes `columns` for local row i; length rows + 1.
+    pub row_start: std::vec::Vec<sys::PetscInt>,
+    pub columns: std::vec::Vec<sys::PetscInt>,
+}
+
+impl RowPattern {
+    pub fn local_rows(&self) -> usize {
+        self.row_start.len().saturating_sub(1)
+    }
+    pub fn nonzeros(&self) -> usize {
+        self.columns.len()
+    }
+}
+
+/// A PETSc AIJ matrix distributed by rows.
+pub struct Matrix<'rt> {
+    pub(super) raw: sys::Mat,
+    _rt: PhantomData<&'rt Runtime>,
+}
+
+/// Whether `add` may assume the same pattern.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Structure {
+    Same,
+    Subset,
+    Different,
+}
+
+impl Structure {
+    fn raw(self) -> sys::MatStructure {
+        match self {
+            Structure::Same => sys::SAME_NONZERO_PATTERN,
+            Structure::Subset => sys::SUBSET_NONZERO_PATTERN,
+            Structure::Different => sys::DIFFERENT_NONZERO_PATTERN,
+        }
+    }
+}
+
+impl<'rt> Matrix<'rt> {
+    pub(super) fn from_raw(raw: sys::Mat) -> Matrix<'rt> {
+        Matrix {
+            raw,
+            _rt: PhantomData,
+        }
+    }
+
+    /// A square or rectangular AIJ matrix with exactly the given pattern, all values zero
+    /// (collective). Adding outside the pattern is an error, not a silent reallocation.
+    pub fn with_pattern(comm: Comm<'rt>, pattern: &RowPattern) -> Result<Matrix<'rt>> {
+        let rows = pattern.local_rows();
+        if pattern.row_start.first().copied().unwrap_or(0) != 0
+            || pattern.row_start.last().map(|&n| n as usize) != Some(pattern.columns.len())
+        {
+            return Err(PetscError::Invalid("malformed CSR row pattern".into()));
+        }
+        let mut raw = std::ptr::null_mut();
+        // SAFETY: CSR arrays checked above; PETSc copies them.
+        unsafe {
+            check(sys::MatCreate(comm.raw, &mut raw))?;
+            let m = Matrix::from_raw(raw);
+            check(sys::MatSetSizes(
+                raw,
+                to_int(rows)?,
+                to_int(pattern.local_cols)?,
+                sys::PETSC_DETERMINE,
+                sys::PETSC_DETERMINE,
+            ))?;
+            check(sys::MatSetType(raw, sys::MATAIJ.as_ptr().cast()))?;
+            check(sys::MatSetFromOptions(raw))?;
+            let start = if rows == 0 {
+                vec![0]
+            } else {
+                pattern.row_start.clone()
+            };
+            // Only the call matching the actual type (seq or mpi) takes effect.
+            if comm.size() == 1 {
+                let nnz: std::vec::Vec<sys::PetscInt> =
+                    start.windows(2).map(|w| w[1] - w[0]).collect();
+                check(sys::MatSeqAIJSetPreallocation(raw, 0, nnz.as_ptr()))?;
+            } else {
+                check(sys::MatMPIAIJSetPreallocationCSR(
+                    raw,
+                    start.as_ptr(),
+                    pattern.columns.as_ptr(),
+                    std::ptr::null(),
+                ))?;
+            }
+            check(sys::MatSetOption(
+                raw,
+                sys::MAT_NEW_NONZERO_ALLOCATION_ERR,
+                sys::PETSC_TRUE,
+            ))?;
+            Ok(m)
+        }
+    }
+
+    /// Adds a dense block: `values[i * cols.len() + j]` goes to `(rows[i], cols[j])` (global
+    /// indices, any rank may add to any row). Negative indices are skipped, as in PETSc, so a
+    /// constrained DOF can be passed as -1.
+    pub fn add_block(
+        &mut self,
+        rows: &[sys::PetscInt],
+        cols: &[sys::PetscInt],
+        values: &[f64],
+    ) -> Result<()> {
+        self.block(rows, cols, values, sys::ADD_VALUES)
+    }
+
+    /// Sets a dense block (see [`Matrix::add_block`]).
+    pub fn set_block(
+        &mut self,
+        rows: &[sys::PetscInt],
+        cols: &[sys::PetscInt],
+        values: &[f64],
+    ) -> Result<()> {
+        self.block(rows, cols, values, sys::INSERT_VALUES)
+    }
+
+    fn block(
+        &mut self,
+        rows: &[sys::PetscInt],
+        cols: &[sys::PetscInt],
+        values: &[f64],
+        mode: sys::InsertMode,
+    ) -> Result<()> {
+        if rows.len() * cols.len() != values.len() {
+            return Err(PetscError::Invalid(format!(
+                "block of {}x{} but {} values",
+                rows.len(),
+                cols.len(),
+                values.len()
+            )));
+        }
+        // SAFETY: lengths checked; PETSc copies.
+        check(unsafe {
+            sys::MatSetValues(
+                self.raw,
+                to_int(rows.len())?,
+                rows.as_ptr(),
+                to_int(cols.len())?,
+                cols.as_ptr(),
+                values.as_ptr(),
+                mode,
+            )
+        })
+    }
+
+    /// Final assembly: communicates off-rank entries (collective).
+    pub fn assemble(&mut self) -> Result<()> {
+        // SAFETY: live matrix.
+        unsafe {
+            check(sys::MatAssemblyBegin(self.raw, sys::MAT_FINAL_ASSEMBLY))?;
+            check(sys::MatAssemblyEnd(self.raw, sys::MAT_FINAL_ASSEMBLY))
+        }
+    }
+
+    /// Sets all values to zero, keeping the pattern (collective).
+    pub fn zero(&mut self) -> Result<()> {
+        // SAFETY: live matrix.
+        check(unsafe { sys::MatZeroEntries(self.raw) })
+    }
+
+    /// A copy with the same pattern and values (collective).
+    pub fn duplicate(&self) -> Result<Matrix<'rt>> {
+        let mut raw = std::ptr::null_mut();
+        // SAFETY: live matrix.
+        check(unsafe { sys::MatDuplicate(self.raw, sys::MAT_COPY_VALUES, &mut raw) })?;
+        Ok(Matrix::from_raw(raw))
+    }
+
+    /// self += alpha * x (collective).
+    pub fn add(&mut self, alpha: f64, x: &Matrix<'rt>, structure: Structure) -> Result<()> {
+        // SAFETY: both live.
+        check(unsafe { sys::MatAXPY(self.raw, alpha, x.raw, structure.raw()) })
+    }
+
+    /// self *= alpha (collective).
+    pub fn scale(&mut self, alpha: f64) -> Result<()> {
+        // SAFETY: live matrix.
+        check(unsafe { sys::MatScale(self.raw, alpha) })
+    }
+
+    /// y = self * x (collective).
+    pub fn mult(&self, x: &Vector<'rt>, y: &mut Vector<'rt>) -> Result<()> {
+        // SAFETY: live objects of compatible layouts (PETSc checks sizes).
+        check(unsafe { sys::MatMult(self.raw, x.raw, y.raw) })
+    }
+
+    /// y = self^T * x (collective).
+    pub fn mult_transpose(&self, x: &Vector<'rt>, y: &mut Vector<'rt>) -> Result<()> {
+        // SAFETY: as mult.
+        check(unsafe { sys::MatMultTranspose(self.raw, x.raw, y.raw) })
+    }
+
+    /// Vectors compatible with the matrix: (right = x in A x, left = y) (collective).
+    pub fn vectors(&self) -> Result<(Vector<'rt>, Vector<'rt>)> {
+        let (mut r, mut l) = (std::ptr::null_mut(), std::ptr::null_mut());
+        // SAFETY: out-pointers to locals.
+        check(unsafe { sys::MatCreateVecs(self.raw, &mut r, &mut l) })?;
+        Ok((Vector::from_raw(r), Vector::from_raw(l)))
+    }
+
+    /// Global (rows, cols).
+    pub fn size(&self) -> Result<(usize, usize)> {
+        let (mut m, mut n) = (0, 0);
+        // SAFETY: out-pointers to locals.
+        check(unsafe { sys::MatGetSize(self.raw, &mut m, &mut n) })?;
+        Ok((m as usize, n as usize))
+    }
+
+    /// The global rows `[start, end)` this rank owns.
+    pub fn ownership_range(&self) -> Result<(usize, usize)> {
+        let (mut lo, mut hi) = (0, 0);
+        // SAFETY: out-pointers to locals.
+        check(unsafe { sys::MatGetOwnershipRange(self.raw, &mut lo, &mut hi) })?;
+        Ok((lo as usize, hi as usize))
+    }
+
+    /// Whether self equals its transpose to `tolerance` (collective).
+    pub fn is_symmetric(&self, tolerance: f64) -> Result<bool> {
+        let mut flag = sys::PETSC_FALSE;
+        // SAFETY: out-pointer to a local.
+        check(unsafe { sys::MatIsSymmetric(self.raw, tolerance, &mut flag) })?;
+        Ok(flag == sys::PETSC_TRUE)
+    }
+
+    /// Frobenius norm (collective).
+    pub fn norm_frobenius(&self) -> Result<f64> {
+        let mut n = 0.0;
+        // SAFETY: out-pointer to a local.
+        check(unsafe { sys::MatNorm(self.raw, sys::NORM_FROBENIUS, &mut n) })?;
+        Ok(n)
+    }
+
+    /// Tells PETSc the matrix is symmetric (lets Cholesky be used on it).
+    pub fn mark_symmetric(&mut self) -> Result<()> {
+        // SAFETY: live matrix.
+        unsafe {
+            check(sys::MatSetOption(
+                self.raw,
+                sys::MAT_SYMMETRIC,
+                sys::PETSC_TRUE,
+            ))?;
+            check(sys::MatSetOption(
+                self.raw,
+                sys::MAT_SYMMETRY_ETERNAL,
+                sys::PETSC_TRUE,
+            ))
+        }
+    }
+
+    /// The entries of a locally owned row as (global column, value) pairs.
+    pub fn row(&self, row: usize) -> Result<std::vec::Vec<(usize, f64)>> {
+        let mut ncols = 0;
+        let mut cols = std::ptr::null();
+        let mut vals = std::ptr::null();
+        let row = to_int(row)?;
+        // SAFETY: MatGetRow / MatRestoreRow pair; the slices are copied before restore.
+        unsafe {
+            check(sys::MatGetRow(
+                self.raw, row, &mut ncols, &mut cols, &mut vals,
+            ))?;
+            let n = ncols as usize;
+            let out = if n == 0 {
+                vec![]
+            } else {
+                let c = std::slice::from_raw_parts(cols, n);
+                let v = std::slice::from_raw_parts(vals, n);
+                c.iter().zip(v).map(|(&c, &v)| (c as usize, v)).collect()
+            };
+            check(sys::MatRestoreRow(
+                self.raw, row, &mut ncols, &mut cols, &mut vals,
+            ))?;
+            Ok(out)
+        }
+    }
+}
+
+impl Drop for Matrix<'_> {
+    fn drop(&mut self) {
+        // SAFETY: we own the handle; the runtime outlives us.
+        unsafe { sys::MatDestroy(&mut self.raw) };
+    }
+}

@@ -1,0 +1,190 @@
+//! The one owner of MPI and PETSc/SLEPc for a process: initialises them in order, finalises
+//! them in reverse on `Drop`, and makes a failure on one rank stop every rank.
+
+use super::error::{check, record_error, PetscError, Result};
+use super::sys;
+use mpi::topology::{Communicator, SimpleCommunicator};
+use mpi::traits::AsRaw;
+use std::ffi::{CStr, CString};
+use std::marker::PhantomData;
+use std::os::raw::c_char;
+
+/// How to start the runtime.
+#[derive(Clone, Debug, Default)]
+pub struct RuntimeOptions {
+    /// PETSc options as one string (`"-eps_view -mat_mumps_icntl_14 50"`), passed to PETSc
+    /// as its argv. `PETSC_OPTIONS` in the environment is read by PETSc itself as well.
+    pub petsc_options: String,
+    /// Install a panic hook that aborts every rank (use in programs run under mpirun; a
+    /// panic on one rank otherwise leaves the others waiting in a collective call).
+    pub abort_on_panic: bool,
+}
+
+/// MPI + PETSc + SLEPc, alive for as long as this value is. Every PETSc object borrows it
+/// (through [`Comm`]), so none can outlive `SlepcFinalize`.
+pub struct Runtime {
+    universe: Option<mpi::environment::Universe>,
+    world: SimpleCommunicator,
+    // PETSc keeps pointers into argv for its whole life.
+    _argv: Vec<CString>,
+    _argv_ptrs: Vec<*mut c_char>,
+}
+
+/// A communicator tied to the runtime: what PETSc objects are created on.
+#[derive(Clone, Copy)]
+pub struct Comm<'rt> {
+    pub(super) raw: sys::MPI_Comm,
+    rank: usize,
+    size: usize,
+    _rt: PhantomData<&'rt Runtime>,
+}
+
+impl<'rt> Comm<'rt> {
+    /// This process's rank in the communicator.
+    pub fn rank(&self) -> usize {
+        self.rank
+    }
+    /// Number of ranks in the communicator.
+    pub fn size(&self) -> usize {
+        self.size
+    }
+    /// The raw handle, for rsmpi collectives on the same communicator.
+    pub fn raw(&self) -> sys::MPI_Comm {
+        self.raw
+    }
+}
+
+impl Runtime {
+    /// Initialises MPI, then SLEPc (which initialises PETSc) on MPI_COMM_WORLD.
+    /// Collective over all processes of the job. Fails if MPI is already initialised.
+    pub fn init(options: &RuntimeOptions) -> Result<Runtime> {
+        let universe = mpi::initialize()
+            .ok_or_else(|| PetscError::Invalid("MPI was already initialised".into()))?;
+        let world = universe.world();
+        // PETSc's signal handler would replace Rust's (a broken pipe would MPI_Abort the job).
+        let mut args = vec!["squeal".to_string(), "-no_signal_handler".to_string()];
+        args.extend(options.petsc_options.split_whitespace().map(String::from));
+        let argv: Vec<CString> = args
+            .into_iter()
+            .map(|a| {
+                CString::new(a).map_err(|_| PetscError::Invalid("NUL in a PETSc option".into()))
+            })
+            .collect::<Result<_>>()?;
+        let mut argv_ptrs: Vec<*mut c_char> =
+            argv.iter().map(|a| a.as_ptr() as *mut c_char).collect();
+        argv_ptrs.push(std::ptr::null_mut());
+        let mut argc = (argv_ptrs.len() - 1) as i32;
+        let mut argv_p = argv_ptrs.as_mut_ptr();
+        // SAFETY: MPI is initialised; PETSC_COMM_WORLD must be set before PetscInitialize and
+        // nothing else touches it concurrently. argv lives as long as the Runtime.
+        unsafe {
+            sys::PETSC_COMM_WORLD = world.as_raw();
+            check(sys::SlepcInitialize(
+                &mut argc,
+                &mut argv_p,
+                std::ptr::null(),
+                std::ptr::null(),
+            ))?;
+            check(sys::PetscPushErrorHandler(
+                Some(record_error),
+                std::ptr::null_mut(),
+            ))?;
+        }
+        if options.abort_on_panic && world.size() > 1 {
+            install_abort_on_panic();
+        }
+        Ok(Runtime {
+            universe: Some(universe),
+            world,
+            _argv: argv,
+            _argv_ptrs: argv_ptrs,
+        })
+    }
+
+    /// All ranks of the job.
+    pub fn world(&self) -> Comm<'_> {
+        Comm {
+            raw: self.world.as_raw(),
+            rank: self.world.rank() as usize,
+            size: self.world.size() as usize,
+            _rt: PhantomData,
+        }
+    }
+
+    /// This rank alone (for per-rank sequential objects).
+    pub fn self_comm(&self) -> Comm<'_> {
+        Comm {
+            // SAFETY: a constant handle exported by rsmpi's C shim.
+            raw: unsafe { sys::RSMPI_COMM_SELF },
+            rank: 0,
+            size: 1,
+            _rt: PhantomData,
+        }
+    }
+
+    /// rsmpi's view of the world communicator, for collectives on plain Rust data.
+    pub fn mpi_world(&self) -> &SimpleCommunicator {
+        &self.world
+    }
+
+    /// Stops every rank of the job with `code`. Use on a fatal error that only this rank
+    /// knows about, where returning would leave the others waiting in a collective.
+    pub fn abort(&self, code: i32) -> ! {
+        self.world.abort(code)
+    }
+
+    /// PETSc's version string, e.g. "Petsc Release Version 3.18.5, ...".
+    pub fn petsc_version(&self) -> Result<String> {
+        let mut buf = [0 as c_char; 256];
+        // SAFETY: PETSc writes at most len bytes, NUL-terminated.
+        check(unsafe { sys::PetscGetVersion(buf.as_mut_ptr(), buf.len()) })?;
+        Ok(unsafe { CStr::from_ptr(buf.as_ptr()) }
+            .to_string_lossy()
+            .into_owned())
+    }
+
+    /// SLEPc's version string.
+    pub fn slepc_version(&self) -> Result<String> {
+        let mut buf = [0 as c_char; 256];
+        // SAFETY: as above.
+        check(unsafe { sys::SlepcGetVersion(buf.as_mut_ptr(), buf.len()) })?;
+        Ok(unsafe { CStr::from_ptr(buf.as_ptr()) }
+            .to_string_lossy()
+            .into_owned())
+    }
+
+    /// Whether PETSc was configured with an external package ("mumps", "superlu_dist"...).
+    pub fn has_external_package(&self, name: &str) -> Result<bool> {
+        let name = CString::new(name).map_err(|_| PetscError::Invalid("NUL in name".into()))?;
+        let mut has = sys::PETSC_FALSE;
+        // SAFETY: valid string, out-pointer to a local.
+        check(unsafe { sys::PetscHasExternalPackage(name.as_ptr(), &mut has) })?;
+        Ok(has == sys::PETSC_TRUE)
+    }
+
+    /// Bytes in a PetscInt in the linked PETSc (4 or 8).
+    pub fn index_bytes(&self) -> usize {
+        std::mem::size_of::<sys::PetscInt>()
+    }
+}
+
+impl Drop for Runtime {
+    fn drop(&mut self) {
+        // SAFETY: every PETSc object borrows the runtime, so all are destroyed by now.
+        // SlepcFinalize also finalises PETSc and leaves MPI to rsmpi's Universe.
+        unsafe { sys::SlepcFinalize() };
+        self.universe.take();
+    }
+}
+
+/// On a panic, print the usual message and then abort the whole MPI job, so the other ranks
+/// do not wait forever in a collective call.
+fn install_abort_on_panic() {
+    let previous = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        previous(info);
+        eprintln!("squeal: a rank panicked; aborting all ranks");
+        // SAFETY: MPI is initialised while the runtime lives; MPI_Abort does not return.
+        unsafe { sys::MPI_Abort(sys::RSMPI_COMM_WORLD, 101) };
+    }));
+}

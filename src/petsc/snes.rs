@@ -1,0 +1,254 @@
+//! Newton's method (`SNES`) with the residual and Jacobian written as Rust closures. The
+//! closures live in a box owned by the solver; a generic `extern "C"` trampoline finds them
+//! through PETSc's context pointer and catches panics there, so none crosses into C.
+
+use super::error::{check, record_callback_error, PetscError, Result};
+use super::ksp::{configure, failure_detail, LinearMethod};
+use super::mat::Matrix;
+use super::runtime::{Comm, Runtime};
+use super::sys;
+use super::vec::Vector;
+use std::marker::PhantomData;
+use std::mem::ManuallyDrop;
+use std::os::raw::c_void;
+use std::panic::{catch_unwind, AssertUnwindSafe};
+
+/// F(x) into `f`. An `Err` stops the solve with that message.
+pub type Residual<'f, 'rt> =
+    dyn FnMut(&Vector<'rt>, &mut Vector<'rt>) -> std::result::Result<(), String> + 'f;
+/// dF/dx at x into the matrix (same pattern every call).
+pub type Jacobian<'f, 'rt> =
+    dyn FnMut(&Vector<'rt>, &mut Matrix<'rt>) -> std::result::Result<(), String> + 'f;
+
+struct Callbacks<'f, 'rt> {
+    residual: Box<Residual<'f, 'rt>>,
+    jacobian: Box<Jacobian<'f, 'rt>>,
+}
+
+/// Newton settings. PETSc options (`-snes_*`) given at start-up override them.
+#[derive(Clone, Debug, PartialEq)]
+pub struct NewtonOptions {
+    /// Stop when |F| < absolute_tolerance ...
+    pub absolute_tolerance: f64,
+    /// ... or |F| < relative_tolerance |F0|.
+    pub relative_tolerance: f64,
+    pub max_iterations: usize,
+    /// Backtracking line search ("bt") or the full step ("basic").
+    pub line_search: String,
+    pub linear: LinearMethod,
+}
+
+impl Default for NewtonOptions {
+    fn default() -> Self {
+        NewtonOptions {
+            absolute_tolerance: 1e-50,
+            relative_tolerance: 1e-10,
+            max_iterations: 50,
+            line_search: "bt".into(),
+            linear: LinearMethod::default(),
+        }
+    }
+}
+
+/// How a converged solve went.
+#[derive(Clone, Debug, PartialEq)]
+pub struct NewtonReport {
+    pub iterations: usize,
+    /// |F| before each iteration and at the end.
+    pub residual_history: std::vec::Vec<f64>,
+    /// PETSc's name for why it stopped ("CONVERGED_FNORM_RELATIVE"...).
+    pub reason: String,
+}
+
+pub struct NonlinearSolver<'f, 'rt> {
+    raw: sys::SNES,
+    // Declared after `raw` is destroyed in Drop: PETSc may call the closures until then.
+    callbacks: Box<Callbacks<'f, 'rt>>,
+    jacobian: Matrix<'rt>,
+    history: std::vec::Vec<f64>,
+    _rt: PhantomData<&'rt Runtime>,
+}
+
+fn run<F: FnOnce() -> std::result::Result<(), String>>(what: &str, f: F) -> sys::PetscErrorCode {
+    match catch_unwind(AssertUnwindSafe(f)) {
+        Ok(Ok(())) => 0,
+        Ok(Err(message)) => {
+            record_callback_error(format!("{what}: {message}"));
+            sys::PETSC_ERR_USER as sys::PetscErrorCode
+        }
+        Err(panic) => {
+            let text = panic
+                .downcast_ref::<&str>()
+                .map(|s| s.to_string())
+                .or_else(|| panic.downcast_ref::<String>().cloned())
+                .unwrap_or_else(|| "unknown panic".into());
+            record_callback_error(format!("{what} panicked: {text}"));
+            sys::PETSC_ERR_USER as sys::PetscErrorCode
+        }
+    }
+}
+
+unsafe extern "C" fn residual_trampoline(
+    _snes: sys::SNES,
+    x: sys::PetscVec,
+    f: sys::PetscVec,
+    ctx: *mut c_void,
+) -> sys::PetscErrorCode {
+    // SAFETY: ctx is the Box<Callbacks> the solver owns; x and f are live for the call and
+    // wrapped without taking ownership.
+    let callbacks = unsafe { &mut *(ctx as *mut Callbacks) };
+    let x = ManuallyDrop::new(Vector::from_raw(x));
+    let mut f = ManuallyDrop::new(Vector::from_raw(f));
+    run("residual", || (callbacks.residual)(&x, &mut f))
+}
+
+unsafe extern "C" fn jacobian_trampoline(
+    _snes: sys::SNES,
+    x: sys::PetscVec,
+    j: sys::Mat,
+    _p: sys::Mat,
+    ctx: *mut c_void,
+) -> sys::PetscErrorCode {
+    // SAFETY: as residual_trampoline; j is the matrix we registered.
+    let callbacks = unsafe { &mut *(ctx as *mut Callbacks) };
+    let x = ManuallyDrop::new(Vector::from_raw(x));
+    let mut j = ManuallyDrop::new(Matrix::from_raw(j));
+    run("Jacobian", || (callbacks.jacobian)(&x, &mut j))
+}
+
+impl<'f, 'rt> NonlinearSolver<'f, 'rt> {
+    /// A Newton solver for F(x) = 0 with the Jacobian assembled into `jacobian` (whose
+    /// pattern must hold every entry the closure adds). Collective.
+    pub fn new(
+        comm: Comm<'rt>,
+        residual: Box<Residual<'f, 'rt>>,
+        jacobian_fn: Box<Jacobian<'f, 'rt>>,
+        jacobian: Matrix<'rt>,
+        options: &NewtonOptions,
+    ) -> Result<Self> {
+        let mut raw = std::ptr::null_mut();
+        // SAFETY: out-pointer to a local.
+        check(unsafe { sys::SNESCreate(comm.raw, &mut raw) })?;
+        let mut solver = NonlinearSolver {
+            raw,
+            callbacks: Box::new(Callbacks {
+                residual,
+                jacobian: jacobian_fn,
+            }),
+            jacobian,
+            history: vec![0.0; options.max_iterations + 2],
+            _rt: PhantomData,
+        };
+        let ctx = &mut *solver.callbacks as *mut Callbacks as *mut c_void;
+        let line_search = std::ffi::CString::new(options.line_search.as_str())
+            .map_err(|_| PetscError::Invalid("NUL in line search name".into()))?;
+        // SAFETY: the box and the history buffer live as long as the SNES (both owned by
+        // `solver`, destroyed after SNESDestroy in Drop).
+        unsafe {
+            check(sys::SNESSetType(raw, sys::SNESNEWTONLS.as_ptr().cast()))?;
+            check(sys::SNESSetFunction(
+                raw,
+                std::ptr::null_mut(),
+                Some(residual_trampoline),
+                ctx,
+            ))?;
+            check(sys::SNESSetJacobian(
+                raw,
+                solver.jacobian.raw,
+                solver.jacobian.raw,
+                Some(jacobian_trampoline),
+                ctx,
+            ))?;
+            check(sys::SNESSetTolerances(
+                raw,
+                options.absolute_tolerance,
+                options.relative_tolerance,
+                0.0,
+                super::vec::to_int(options.max_iterations)?,
+                -1,
+            ))?;
+            let mut ls = std::ptr::null_mut();
+            check(sys::SNESGetLineSearch(raw, &mut ls))?;
+            check(sys::SNESLineSearchSetType(ls, line_search.as_ptr()))?;
+            let mut ksp = std::ptr::null_mut();
+            check(sys::SNESGetKSP(raw, &mut ksp))?;
+            configure(ksp, &options.linear)?;
+            check(sys::SNESSetConvergenceHistory(
+                raw,
+                solver.history.as_mut_ptr(),
+                std::ptr::null_mut(),
+                super::vec::to_int(solver.history.len())?,
+                sys::PETSC_TRUE,
+            ))?;
+            check(sys::SNESSetFromOptions(raw))?;
+        }
+        Ok(solver)
+    }
+
+    /// Solves F(x) = 0 from the initial guess in `x` (collective). Not converging is an
+    /// `Err` that says why, with the residual history.
+    pub fn solve(&mut self, x: &mut Vector<'rt>) -> Result<NewtonReport> {
+        // SAFETY: live SNES and vector.
+        let code = unsafe { sys::SNESSolve(self.raw, std::ptr::null_mut(), x.raw) };
+        check(code)?;
+        let mut reason = 0;
+        let mut its = 0;
+        let mut n_hist = 0;
+        let mut hist_ptr = std::ptr::null_mut();
+        let mut text = std::ptr::null();
+        // SAFETY: out-pointers; the history pointer is our own buffer.
+        unsafe {
+            check(sys::SNESGetConvergedReason(self.raw, &mut reason))?;
+            check(sys::SNESGetIterationNumber(self.raw, &mut its))?;
+            check(sys::SNESGetConvergenceHistory(
+                self.raw,
+                &mut hist_ptr,
+                std::ptr::null_mut(),
+                &mut n_hist,
+            ))?;
+            check(sys::SNESGetConvergedReasonString(self.raw, &mut text))?;
+        }
+        let history = self.history[..(n_hist.max(0) as usize).min(self.history.len())].to_vec();
+        // SAFETY: PETSc's reason strings are static.
+        let reason_text = unsafe { std::ffi::CStr::from_ptr(text) }
+            .to_string_lossy()
+            .into_owned();
+        if reason < 0 {
+            let mut ksp = std::ptr::null_mut();
+            // SAFETY: out-pointer.
+            check(unsafe { sys::SNESGetKSP(self.raw, &mut ksp) })?;
+            let linear = failure_detail(ksp)?
+                .map(|d| format!("; last linear solve: {d}"))
+                .unwrap_or_default();
+            return Err(PetscError::NotConverged {
+                what: "Newton (SNES)".into(),
+                detail: format!(
+                    "{reason_text} after {its} iterations{linear}; residual history {}",
+                    format_history(&history)
+                ),
+            });
+        }
+        Ok(NewtonReport {
+            iterations: its as usize,
+            residual_history: history,
+            reason: reason_text,
+        })
+    }
+
+    /// The Jacobian matrix as last assembled.
+    pub fn jacobian(&self) -> &Matrix<'rt> {
+        &self.jacobian
+    }
+}
+
+pub fn format_history(h: &[f64]) -> String {
+    let items: std::vec::Vec<String> = h.iter().map(|r| format!("{r:.3e}")).collect();
+    format!("[{}]", items.join(", "))
+}
+
+impl Drop for NonlinearSolver<'_, '_> {
+    fn drop(&mut self) {
+        // SAFETY: we own the SNES; the callbacks and matrix are dropped after this.
+        unsafe { sys::SNESDestroy(&mut self.raw) };
+    }
+}

@@ -1,0 +1,3 @@
+//! What a user asks for: one function per subcommand, called by `main.rs`.
+
+pub mod info;

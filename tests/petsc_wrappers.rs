@@ -1,0 +1,614 @@
+//! Each PETSc/SLEPc wrapper checked against an independent answer, on 1 and on 2 ranks.
+//!
+//! PETSc can be initialised once per process and is not thread-safe, so every check runs in
+//! its own `mpirun` job: this file is both the libtest-mimic harness (parent: one trial per
+//! check, never touching MPI itself) and the program those jobs run (`--child NAME`). The
+//! parent compares the numbers each rank count printed.
+
+mod common;
+
+use libtest_mimic::{Arguments, Failed, Trial};
+use num_complex::Complex64;
+use squeal::petsc::{
+    Comm, DirectPackage, EigenOptions, EigenProblem, EigenSolver, Factorization, LinearMethod,
+    LinearSolver, Matrix, NewtonOptions, NonlinearSolver, PetscError, PetscInt,
+    QuadraticEigenSolver, QuadraticOptions, RowPattern, Runtime, RuntimeOptions, Spectrum, Vector,
+};
+use std::f64::consts::PI;
+
+type Check = fn(&Runtime) -> Result<Vec<f64>, String>;
+
+const CHECKS: &[(&str, Check, &[usize])] = &[
+    (
+        "laplacian_1d_ghep_interval",
+        laplacian_1d_ghep_interval,
+        &[1, 2],
+    ),
+    (
+        "laplacian_3d_ghep_target",
+        laplacian_3d_ghep_target,
+        &[1, 2],
+    ),
+    (
+        "block_gnhep_complex_shift_invert",
+        block_gnhep_complex,
+        &[1, 2],
+    ),
+    (
+        "snes_cubic_reaction_diffusion",
+        snes_known_solution,
+        &[1, 2],
+    ),
+    ("snes_callback_error_is_err", snes_callback_error, &[1, 2]),
+    ("pep_damped_oscillators", pep_closed_form, &[1, 2]),
+    (
+        "singular_solve_is_err_on_every_rank",
+        singular_solve,
+        &[1, 2],
+    ),
+    ("entry_outside_pattern_is_err", outside_pattern, &[1, 2]),
+    ("vector_gather_and_norms", vector_gather, &[1, 2]),
+];
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    if args.len() >= 3 && args[1] == "--child" {
+        std::process::exit(child(&args[2]));
+    }
+    let arguments = Arguments::from_args();
+    let exe = std::env::current_exe().expect("own path");
+    let trials = CHECKS
+        .iter()
+        .map(|&(name, _, ranks)| {
+            let exe = exe.clone();
+            Trial::test(name, move || parent(&exe, name, ranks))
+        })
+        .collect();
+    libtest_mimic::run(&arguments, trials).exit();
+}
+
+/// Runs the check under each rank count and compares the numbers they print.
+fn parent(exe: &std::path::Path, name: &str, ranks: &[usize]) -> Result<(), Failed> {
+    let mut results: Vec<(usize, Vec<f64>)> = Vec::new();
+    for &n in ranks {
+        let out = common::mpirun(n, exe, &["--child", name]);
+        if common::hung(&out) {
+            return Err(format!("{name} hung on {n} ranks\n{}", common::text(&out)).into());
+        }
+        if !out.status.success() {
+            return Err(format!("{name} failed on {n} ranks\n{}", common::text(&out)).into());
+        }
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        let line = stdout
+            .lines()
+            .find_map(|l| l.strip_prefix("RESULT "))
+            .ok_or_else(|| format!("{name}: no RESULT line\n{}", common::text(&out)))?;
+        let numbers: Vec<f64> = serde_json::from_str(line).map_err(|e| e.to_string())?;
+        results.push((n, numbers));
+    }
+    // The same numbers from every rank count: the algorithms are the same, only the
+    // distribution of rows differs, so agreement to far below the solver tolerance is
+    // expected; 1e-10 relative to the largest value leaves room for reordered sums in the
+    // factorisations and Krylov bases.
+    let (n0, first) = &results[0];
+    let scale = first.iter().fold(1e-300f64, |m, v| m.max(v.abs()));
+    for (n, other) in &results[1..] {
+        if other.len() != first.len() {
+            return Err(format!(
+                "{name}: {} numbers on {n0} ranks, {} on {n}",
+                first.len(),
+                other.len()
+            )
+            .into());
+        }
+        for (i, (a, b)) in first.iter().zip(other).enumerate() {
+            if (a - b).abs() > 1e-10 * scale {
+                return Err(format!("{name}: value {i}: {a} on {n0} ranks, {b} on {n}").into());
+            }
+        }
+    }
+    Ok(())
+}
+
+fn child(name: &str) -> i32 {
+    let Some(&(_, check, _)) = CHECKS.iter().find(|c| c.0 == name) else {
+        eprintln!("no check named {name}");
+        return 2;
+    };
+    let rt = Runtime::init(&RuntimeOptions::default()).expect("PETSc initialises");
+    let rank = rt.world().rank();
+    let outcome = check(&rt);
+    let code = match outcome {
+        Ok(numbers) => {
+            if rank == 0 {
+                println!("RESULT {}", serde_json::to_string(&numbers).unwrap());
+            }
+            0
+        }
+        Err(why) => {
+            eprintln!("rank {rank}: {name}: {why}");
+            1
+        }
+    };
+    drop(rt);
+    code
+}
+
+// ---------------------------------------------------------------------------------------
+// Helpers: row distribution and banded matrices built from a row function.
+
+/// PETSc's default split of n rows: n/size each, the first n%size ranks one more.
+fn split(n: usize, comm: Comm) -> (usize, usize) {
+    let (r, s) = (comm.rank(), comm.size());
+    let base = n / s;
+    let extra = n % s;
+    let start = r * base + r.min(extra);
+    let len = base + usize::from(r < extra);
+    (start, start + len)
+}
+
+/// A matrix whose row i holds `entries(i)` (global column, value), built with the exact
+/// pattern. Collective.
+fn matrix<'rt>(
+    comm: Comm<'rt>,
+    n: usize,
+    entries: impl Fn(usize) -> Vec<(usize, f64)>,
+) -> Result<Matrix<'rt>, String> {
+    let (lo, hi) = split(n, comm);
+    let mut pattern = RowPattern {
+        local_cols: hi - lo,
+        row_start: vec![0],
+        columns: vec![],
+    };
+    for i in lo..hi {
+        let mut cols: Vec<PetscInt> = entries(i).iter().map(|&(j, _)| j as PetscInt).collect();
+        cols.sort_unstable();
+        cols.dedup();
+        pattern.columns.extend(cols);
+        pattern.row_start.push(pattern.columns.len() as PetscInt);
+    }
+    let mut m = Matrix::with_pattern(comm, &pattern).map_err(|e| e.to_string())?;
+    for i in lo..hi {
+        for (j, v) in entries(i) {
+            m.add_block(&[i as PetscInt], &[j as PetscInt], &[v])
+                .map_err(|e| e.to_string())?;
+        }
+    }
+    m.assemble().map_err(|e| e.to_string())?;
+    Ok(m)
+}
+
+fn laplacian_1d(i: usize, n: usize) -> Vec<(usize, f64)> {
+    let mut row = vec![(i, 2.0)];
+    if i > 0 {
+        row.push((i - 1, -1.0));
+    }
+    if i + 1 < n {
+        row.push((i + 1, -1.0));
+    }
+    row
+}
+
+fn relative(a: f64, b: f64) -> f64 {
+    (a - b).abs() / b.abs().max(1e-300)
+}
+
+fn e(err: PetscError) -> String {
+    err.to_string()
+}
+
+// ---------------------------------------------------------------------------------------
+// The checks.
+
+/// 1D Laplacian tridiag(-1, 2, -1), n = 400, B = I: lambda_k = 2 - 2 cos(k pi / (n + 1)).
+/// Spectrum slicing over [0, 0.05] must find exactly the eigenvalues the formula puts there,
+/// each once.
+fn laplacian_1d_ghep_interval(rt: &Runtime) -> Result<Vec<f64>, String> {
+    let comm = rt.world();
+    let n = 400;
+    let a = matrix(comm, n, |i| laplacian_1d(i, n))?;
+    let b = matrix(comm, n, |i| vec![(i, 1.0)])?;
+    let exact: Vec<f64> = (1..=n)
+        .map(|k| 2.0 - 2.0 * (k as f64 * PI / (n as f64 + 1.0)).cos())
+        .filter(|&l| l <= 0.05)
+        .collect();
+    let options = EigenOptions {
+        problem: EigenProblem::HermitianGeneralized,
+        spectrum: Spectrum::Interval {
+            low: 0.0,
+            high: 0.05,
+        },
+        tolerance: 1e-12,
+        ..Default::default()
+    };
+    let mut eps = EigenSolver::new(comm, &a, Some(&b), &options).map_err(e)?;
+    let summary = eps.solve().map_err(e)?;
+    if summary.converged != exact.len() {
+        return Err(format!(
+            "slicing found {} eigenvalues in [0, 0.05], the formula has {}",
+            summary.converged,
+            exact.len()
+        ));
+    }
+    let mut found: Vec<f64> = (0..summary.converged)
+        .map(|i| eps.value(i).map(|v| v.re))
+        .collect::<Result<_, _>>()
+        .map_err(e)?;
+    found.sort_by(f64::total_cmp);
+    for (f, x) in found.iter().zip(&exact) {
+        // Eigenvalue error of a Hermitian problem is O(residual^2 / gap); with tolerance 1e-12
+        // the eigenvalue is exact to round-off times the condition of the shifted solve.
+        if relative(*f, *x) > 1e-9 {
+            return Err(format!("eigenvalue {f} but closed form {x}"));
+        }
+    }
+    for i in 0..summary.converged {
+        let r = eps.relative_error(i).map_err(e)?;
+        if r > 1e-10 {
+            return Err(format!("pair {i} residual {r}"));
+        }
+    }
+    Ok(found)
+}
+
+/// 7-point 3D Laplacian on a 12^3 grid (Dirichlet), B = 2 I: eigenvalues
+/// (sum_d 2 - 2 cos(k_d pi / 13)) / 2, with multiplicities 1, 3, 3, 3, 6 ... The 10 closest
+/// to 0 (shift-and-invert with MUMPS) must be the 10 smallest of the closed form.
+fn laplacian_3d_ghep_target(rt: &Runtime) -> Result<Vec<f64>, String> {
+    let comm = rt.world();
+    let g = 12;
+    let n = g * g * g;
+    let idx = |x: usize, y: usize, z: usize| (z * g + y) * g + x;
+    let a = matrix(comm, n, |i| {
+        let (x, y, z) = (i % g, (i / g) % g, i / (g * g));
+        let mut row = vec![(i, 6.0)];
+        for (d, c) in [(0, x), (1, y), (2, z)] {
+            let step = |c2: usize| match d {
+                0 => idx(c2, y, z),
+                1 => idx(x, c2, z),
+                _ => idx(x, y, c2),
+            };
+            if c > 0 {
+                row.push((step(c - 1), -1.0));
+            }
+            if c + 1 < g {
+                row.push((step(c + 1), -1.0));
+            }
+        }
+        row
+    })?;
+    let b = matrix(comm, n, |i| vec![(i, 2.0)])?;
+    let one_d: Vec<f64> = (1..=g)
+        .map(|k| 2.0 - 2.0 * (k as f64 * PI / (g as f64 + 1.0)).cos())
+        .collect();
+    let mut exact: Vec<f64> = Vec::new();
+    for &p in &one_d {
+        for &q in &one_d {
+            for &r in &one_d {
+                exact.push((p + q + r) / 2.0);
+            }
+        }
+    }
+    exact.sort_by(f64::total_cmp);
+    let count = 10;
+    let options = EigenOptions {
+        problem: EigenProblem::HermitianGeneralized,
+        spectrum: Spectrum::NearTarget { target: 0.0, count },
+        tolerance: 1e-12,
+        ..Default::default()
+    };
+    let mut eps = EigenSolver::new(comm, &a, Some(&b), &options).map_err(e)?;
+    let summary = eps.solve().map_err(e)?;
+    if summary.converged < count {
+        return Err(format!("{} of {count} converged", summary.converged));
+    }
+    let mut found: Vec<f64> = (0..count)
+        .map(|i| eps.value(i).map(|v| v.re))
+        .collect::<Result<_, _>>()
+        .map_err(e)?;
+    found.sort_by(f64::total_cmp);
+    for (f, x) in found.iter().zip(&exact) {
+        if relative(*f, *x) > 1e-9 {
+            return Err(format!("eigenvalue {f} but closed form {x}"));
+        }
+    }
+    Ok(found)
+}
+
+/// A x = lambda B x with A block upper-bidiagonal: 2x2 diagonal blocks [[a, b], [-b, a]] and
+/// coupling blocks above them, B = diag(c_k I). Block-triangular, so the eigenvalues are
+/// (a_k +/- i b_k) / c_k however strong the (non-normal) coupling. Shift-and-invert about
+/// a real target with MUMPS LU must return the conjugate pairs nearest the target.
+fn block_gnhep_complex(rt: &Runtime) -> Result<Vec<f64>, String> {
+    let comm = rt.world();
+    let blocks = 60;
+    let n = 2 * blocks;
+    let (ak, bk, ck) = (
+        |k: usize| 1.0 + 0.5 * k as f64,
+        |k: usize| 0.3 + 0.01 * k as f64,
+        |k: usize| 1.0 + 0.1 * (k % 3) as f64,
+    );
+    let a = matrix(comm, n, |i| {
+        let k = i / 2;
+        let (a, b) = (ak(k), bk(k));
+        let mut row = if i % 2 == 0 {
+            vec![(i, a), (i + 1, b)]
+        } else {
+            vec![(i - 1, -b), (i, a)]
+        };
+        if k + 1 < blocks {
+            row.push((2 * (k + 1), 0.7));
+            row.push((2 * (k + 1) + 1, -0.4));
+        }
+        row
+    })?;
+    let b = matrix(comm, n, |i| vec![(i, ck(i / 2))])?;
+    let target = 6.0;
+    let count = 6;
+    let options = EigenOptions {
+        problem: EigenProblem::NonHermitianGeneralized,
+        spectrum: Spectrum::NearTarget { target, count },
+        tolerance: 1e-12,
+        linear: LinearMethod::Direct {
+            package: DirectPackage::Mumps,
+            factorization: Factorization::Lu,
+        },
+        ..Default::default()
+    };
+    let mut eps = EigenSolver::new(comm, &a, Some(&b), &options).map_err(e)?;
+    let summary = eps.solve().map_err(e)?;
+    if summary.converged < count {
+        return Err(format!("{} of {count} converged", summary.converged));
+    }
+    let mut exact: Vec<Complex64> = (0..blocks)
+        .flat_map(|k| {
+            let c = ck(k);
+            [
+                Complex64::new(ak(k) / c, bk(k) / c),
+                Complex64::new(ak(k) / c, -bk(k) / c),
+            ]
+        })
+        .collect();
+    exact.sort_by(|x, y| (x - target).norm().total_cmp(&(y - target).norm()));
+    let mut out = Vec::new();
+    for i in 0..count {
+        let v = eps.value(i).map_err(e)?;
+        let nearest = exact
+            .iter()
+            .map(|x| (x - v).norm() / x.norm())
+            .fold(f64::INFINITY, f64::min);
+        // Non-normal coupling amplifies the backward error by the eigenvector condition
+        // number (about 1e2 here), so 1e-12 tolerance gives ~1e-10 in the eigenvalue.
+        if nearest > 1e-9 {
+            return Err(format!(
+                "eigenvalue {v} is {nearest:e} from every closed-form value"
+            ));
+        }
+        // It must also be among the `count` nearest to the target (ties broken by conjugation).
+        let d = (v - target).norm();
+        if d > (exact[count - 1] - target).norm() * (1.0 + 1e-9) {
+            return Err(format!(
+                "eigenvalue {v} is not among the {count} nearest the target"
+            ));
+        }
+        out.push(v);
+    }
+    // Conjugates must come as pairs.
+    for v in &out {
+        if v.im != 0.0 && !out.iter().any(|w| (w - v.conj()).norm() < 1e-8 * v.norm()) {
+            return Err(format!("eigenvalue {v} without its conjugate"));
+        }
+    }
+    out.sort_by(|x, y| x.re.total_cmp(&y.re).then(x.im.total_cmp(&y.im)));
+    Ok(out.iter().flat_map(|v| [v.re, v.im]).collect())
+}
+
+/// F(x) = A x + x^3 - b with A the 1D Laplacian and b made from x*_i = sin(pi (i+1)/(n+1)):
+/// Newton from 0 must converge quadratically to x*.
+fn snes_known_solution(rt: &Runtime) -> Result<Vec<f64>, String> {
+    let comm = rt.world();
+    let n = 100;
+    let exact: Vec<f64> = (0..n)
+        .map(|i| 2.0 * (PI * (i + 1) as f64 / (n as f64 + 1.0)).sin())
+        .collect();
+    let (lo, hi) = split(n, comm);
+    let a_exact = |i: usize, x: &dyn Fn(usize) -> f64| -> f64 {
+        laplacian_1d(i, n).iter().map(|&(j, v)| v * x(j)).sum()
+    };
+    let rhs: Vec<f64> = (0..n)
+        .map(|i| a_exact(i, &|j| exact[j]) + exact[i].powi(3))
+        .collect();
+    let jac = matrix(comm, n, |i| laplacian_1d(i, n))?;
+    let residual = Box::new(|x: &Vector, f: &mut Vector| -> Result<(), String> {
+        let all = x.gather_all().map_err(e)?;
+        let mut out = f.write().map_err(e)?;
+        for (k, i) in (lo..hi).enumerate() {
+            out[k] = a_exact(i, &|j| all[j]) + all[i].powi(3) - rhs[i];
+        }
+        Ok(())
+    });
+    let jacobian = Box::new(|x: &Vector, j: &mut Matrix| -> Result<(), String> {
+        let local = x.read().map_err(e)?.to_vec();
+        j.zero().map_err(e)?;
+        for (k, i) in (lo..hi).enumerate() {
+            for (c, v) in laplacian_1d(i, n) {
+                let d = if c == i {
+                    3.0 * local[k] * local[k]
+                } else {
+                    0.0
+                };
+                j.add_block(&[i as PetscInt], &[c as PetscInt], &[v + d])
+                    .map_err(e)?;
+            }
+        }
+        j.assemble().map_err(e)
+    });
+    let options = NewtonOptions {
+        relative_tolerance: 1e-12,
+        ..Default::default()
+    };
+    let mut snes = NonlinearSolver::new(comm, residual, jacobian, jac, &options).map_err(e)?;
+    let mut x = Vector::new(comm, hi - lo).map_err(e)?;
+    let report = snes.solve(&mut x).map_err(e)?;
+    let all = x.gather_all().map_err(e)?;
+    let err = all
+        .iter()
+        .zip(&exact)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    if err > 1e-10 {
+        return Err(format!("|x - x*| = {err:e} after {report:?}"));
+    }
+    // Newton's quadratic convergence: the last ratios r_{k+1} / r_k^2 stay bounded, and it
+    // takes few iterations.
+    if report.iterations > 10 {
+        return Err(format!("{} Newton iterations", report.iterations));
+    }
+    Ok(all)
+}
+
+/// A residual closure that fails must surface as an Err carrying its message on every rank,
+/// not as a crash or a hang.
+fn snes_callback_error(rt: &Runtime) -> Result<Vec<f64>, String> {
+    let comm = rt.world();
+    let n = 10;
+    let (lo, hi) = split(n, comm);
+    let jac = matrix(comm, n, |i| laplacian_1d(i, n))?;
+    let residual = Box::new(|_x: &Vector, _f: &mut Vector| -> Result<(), String> {
+        Err("contact search failed on purpose".into())
+    });
+    let jacobian = Box::new(|_x: &Vector, _j: &mut Matrix| -> Result<(), String> { Ok(()) });
+    let mut snes = NonlinearSolver::new(comm, residual, jacobian, jac, &NewtonOptions::default())
+        .map_err(e)?;
+    let mut x = Vector::new(comm, hi - lo).map_err(e)?;
+    match snes.solve(&mut x) {
+        Ok(r) => Err(format!("a failing residual gave Ok({r:?})")),
+        Err(err) if err.to_string().contains("contact search failed on purpose") => Ok(vec![1.0]),
+        Err(err) => Err(format!("error without the callback's message: {err}")),
+    }
+}
+
+/// (K + lambda C + lambda^2 M) x = 0 with diagonal K, C, M: each DOF is an oscillator,
+/// lambda = (-c +/- sqrt(c^2 - 4 m k)) / (2 m). The 8 nearest 0 must match.
+fn pep_closed_form(rt: &Runtime) -> Result<Vec<f64>, String> {
+    let comm = rt.world();
+    let n = 50;
+    let (kk, cc, mm) = (
+        |i: usize| 1.0 + i as f64,
+        |i: usize| 0.05 + 0.01 * i as f64,
+        |i: usize| 1.0 + 0.02 * i as f64,
+    );
+    let k = matrix(comm, n, |i| vec![(i, kk(i))])?;
+    let c = matrix(comm, n, |i| vec![(i, cc(i))])?;
+    let m = matrix(comm, n, |i| vec![(i, mm(i))])?;
+    let count = 8;
+    let options = QuadraticOptions {
+        target: 0.0,
+        count,
+        tolerance: 1e-12,
+        ..Default::default()
+    };
+    let mut pep = QuadraticEigenSolver::new(comm, &k, &c, &m, &options).map_err(e)?;
+    let converged = pep.solve().map_err(e)?;
+    if converged < count {
+        return Err(format!("{converged} of {count} converged"));
+    }
+    let exact: Vec<Complex64> = (0..n)
+        .flat_map(|i| {
+            let (k, c, m) = (kk(i), cc(i), mm(i));
+            let disc = Complex64::new(c * c - 4.0 * m * k, 0.0).sqrt();
+            [(-c + disc) / (2.0 * m), (-c - disc) / (2.0 * m)]
+        })
+        .collect();
+    let (_, template) = k.vectors().map_err(e)?;
+    let mut out = Vec::new();
+    for i in 0..count {
+        let (v, _xr, _xi) = pep.pair(i, &template).map_err(e)?;
+        let nearest = exact
+            .iter()
+            .map(|x| (x - v).norm() / x.norm())
+            .fold(f64::INFINITY, f64::min);
+        if nearest > 1e-9 {
+            return Err(format!(
+                "eigenvalue {v} is {nearest:e} from the closed form"
+            ));
+        }
+        out.push(v);
+    }
+    out.sort_by(|x, y| x.im.total_cmp(&y.im));
+    Ok(out.iter().flat_map(|v| [v.re, v.im]).collect())
+}
+
+/// A matrix with a zero row cannot be factorised: the solve must return Err (with MUMPS's
+/// reason) on every rank.
+fn singular_solve(rt: &Runtime) -> Result<Vec<f64>, String> {
+    let comm = rt.world();
+    let n = 20;
+    let a = matrix(comm, n, |i| {
+        if i == n / 2 {
+            vec![(i, 0.0)]
+        } else {
+            vec![(i, 1.0)]
+        }
+    })?;
+    let method = LinearMethod::Direct {
+        package: DirectPackage::Mumps,
+        factorization: Factorization::Lu,
+    };
+    let mut ksp = LinearSolver::new(comm, &a, &method).map_err(e)?;
+    let (mut x, b) = a.vectors().map_err(e)?;
+    b.set(1.0).map_err(e)?;
+    match ksp.solve(&b, &mut x) {
+        Ok(its) => Err(format!("singular solve returned Ok({its})")),
+        Err(err) => {
+            let text = err.to_string();
+            if text.is_empty() {
+                Err("empty error message".into())
+            } else {
+                Ok(vec![1.0])
+            }
+        }
+    }
+}
+
+/// Adding an entry the pattern does not hold is an error (the exact preallocation is a
+/// contract), reported with PETSc's message.
+fn outside_pattern(rt: &Runtime) -> Result<Vec<f64>, String> {
+    let comm = rt.world();
+    let n = 8;
+    let (lo, _) = split(n, comm);
+    let mut m = matrix(comm, n, |i| vec![(i, 1.0)])?;
+    let far = (lo + n / 2 + 1) % n;
+    let local = m.add_block(&[lo as PetscInt], &[far as PetscInt], &[1.0]);
+    match local {
+        Err(err) if err.to_string().to_lowercase().contains("new nonzero") => Ok(vec![1.0]),
+        Err(err) => Err(format!("unexpected message: {err}")),
+        Ok(()) => Err("an entry outside the pattern was accepted".into()),
+    }
+}
+
+/// gather_all returns the same global vector on every rank; norms agree with a direct sum.
+fn vector_gather(rt: &Runtime) -> Result<Vec<f64>, String> {
+    let comm = rt.world();
+    let n = 37;
+    let (lo, hi) = split(n, comm);
+    let mut v = Vector::new(comm, hi - lo).map_err(e)?;
+    v.set_local(&(lo..hi).map(|i| i as f64 - 10.0).collect::<Vec<_>>())
+        .map_err(e)?;
+    let all = v.gather_all().map_err(e)?;
+    let expect: Vec<f64> = (0..n).map(|i| i as f64 - 10.0).collect();
+    if all != expect {
+        return Err(format!("gathered {all:?}"));
+    }
+    let norm = v.norm2().map_err(e)?;
+    let direct = expect.iter().map(|x| x * x).sum::<f64>().sqrt();
+    if relative(norm, direct) > 1e-15 {
+        return Err(format!("norm {norm} vs {direct}"));
+    }
+    let mut w = v.copy().map_err(e)?;
+    w.axpy(-1.0, &v).map_err(e)?;
+    if w.norm_max().map_err(e)? != 0.0 {
+        return Err("copy differs".into());
+    }
+    Ok(vec![norm, v.dot(&v).map_err(e)?])
+}
