@@ -4,6 +4,7 @@
 //! Stages, each using only the ones before it: [`mesh`] -> [`fem`] -> analysis -> reduction
 //! -> study. [`petsc`] is the only module with `unsafe`.
 
+pub mod analysis;
 pub mod fem;
 pub mod mesh;
 pub mod petsc;

@@ -1,9 +1,11 @@
 //! The `squeal` command line: parses, starts the runtime, and calls one function of
 //! `squeal::study` per subcommand.
 
-use clap::{Parser, Subcommand};
+use clap::{Parser, Subcommand, ValueEnum};
+use squeal::fem::element::MassRule;
 use squeal::petsc::Runtime;
 use squeal::study;
+use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(Parser)]
@@ -28,6 +30,14 @@ struct Cli {
     command: Command,
 }
 
+#[derive(Clone, Copy, ValueEnum)]
+enum MassRuleArg {
+    /// Consistent mass integrated exactly (degree-4 rule).
+    Exact,
+    /// The 4-point Gauss rule CalculiX and Abaqus use for C3D10 (to match their numbers).
+    Gauss4,
+}
+
 #[derive(Subcommand)]
 enum Command {
     /// Versions of squeal, PETSc, SLEPc and MPI, the solvers available, and each rank's view.
@@ -36,18 +46,51 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Write the built-in brake (or a converted mesh file) as Gmsh .msh plus a .vtu to look at.
+    Mesh {
+        /// A .msh or .inp file to convert; the built-in brake when absent.
+        mesh: Option<PathBuf>,
+        /// Built-in brake preset (tiny, small, medium, industrial).
+        #[arg(long, default_value = "small")]
+        preset: String,
+        /// Output .msh file (a .vtu with the same stem is written beside it).
+        #[arg(short, long, default_value = "brake.msh")]
+        output: PathBuf,
+    },
+    /// Real modes (K phi = omega^2 M phi) of a mesh file or of the built-in brake.
+    Modes {
+        /// A .msh or .inp file; the built-in brake when absent. An .inp deck's *FREQUENCY
+        /// step (supports, number of modes, upper frequency) is run as written.
+        mesh: Option<PathBuf>,
+        /// Built-in brake preset (tiny, small, medium, industrial).
+        #[arg(long, default_value = "small")]
+        preset: String,
+        /// Every mode from 0 up to this frequency (Hz).
+        #[arg(long, conflicts_with = "nev")]
+        fmax: Option<f64>,
+        /// The N lowest modes.
+        #[arg(long)]
+        nev: Option<usize>,
+        /// Hold a node set (or surface): SET or SET:xyz (repeatable).
+        #[arg(long = "fix", value_name = "SET[:xyz]")]
+        fixes: Vec<String>,
+        /// Material of a part: PART=E,nu,rho (repeatable; needed for .msh files).
+        #[arg(long = "material", value_name = "PART=E,nu,rho")]
+        materials: Vec<String>,
+        /// Consistent-mass integration.
+        #[arg(long, value_enum, default_value = "exact")]
+        mass_rule: MassRuleArg,
+        /// Relative residual tolerance of each mode.
+        #[arg(long, default_value_t = 1e-10)]
+        tolerance: f64,
+        /// Output folder (modes.json, modes.csv, modes.vtu).
+        #[arg(short, long, default_value = "squeal-out")]
+        output: PathBuf,
+    },
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
-    tracing_subscriber::fmt()
-        .with_env_filter(
-            tracing_subscriber::EnvFilter::try_from_env("SQUEAL_LOG")
-                .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new("info")),
-        )
-        .with_writer(std::io::stderr)
-        .without_time()
-        .init();
     let rt = match Runtime::init(&study::info::runtime_options(cli.petsc_options.clone())) {
         Ok(rt) => rt,
         Err(e) => {
@@ -55,13 +98,66 @@ fn main() -> ExitCode {
             return ExitCode::FAILURE;
         }
     };
+    let world = rt.world();
+    // Progress is logged by rank 0 only; SQUEAL_LOG=debug shows more.
+    let filter = if world.rank() == 0 {
+        tracing_subscriber::EnvFilter::try_from_env("SQUEAL_LOG")
+            .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new("info"))
+    } else {
+        tracing_subscriber::EnvFilter::new("off")
+    };
+    tracing_subscriber::fmt()
+        .with_env_filter(filter)
+        .with_writer(std::io::stderr)
+        .with_target(false)
+        .with_ansi(std::io::IsTerminal::is_terminal(&std::io::stderr()))
+        .without_time()
+        .init();
     let result = match cli.command {
         Command::Info { json } => study::info::run(&rt, json),
+        Command::Mesh {
+            mesh,
+            preset,
+            output,
+        } => study::write_mesh::run(&rt, mesh.as_deref(), &preset, &output),
+        Command::Modes {
+            mesh,
+            preset,
+            fmax,
+            nev,
+            fixes,
+            materials,
+            mass_rule,
+            tolerance,
+            output,
+        } => study::modes::run(
+            &rt,
+            &study::modes::ModesArgs {
+                mesh,
+                preset,
+                max_frequency_hz: fmax,
+                count: nev,
+                fixes,
+                materials,
+                mass_rule: match mass_rule {
+                    MassRuleArg::Exact => MassRule::Exact,
+                    MassRuleArg::Gauss4 => MassRule::Gauss4,
+                },
+                output,
+                tolerance,
+            },
+        ),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
+        Err(e) if e.downcast_ref::<study::report::Collective>().is_some() => {
+            // Every rank has this error: say it once, and every rank exits.
+            if world.rank() == 0 {
+                eprintln!("squeal: error: {e:#}");
+            }
+            ExitCode::FAILURE
+        }
         Err(e) => {
-            let world = rt.world();
             if world.size() > 1 {
                 eprintln!("squeal: error on rank {}: {e:#}", world.rank());
                 // The other ranks may be waiting in a collective call: stop them all.

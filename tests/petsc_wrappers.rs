@@ -1,137 +1,44 @@
 //! Each PETSc/SLEPc wrapper checked against an independent answer, on 1 and on 2 ranks.
 //!
-//! PETSc can be initialised once per process and is not thread-safe, so every check runs in
-//! its own `mpirun` job: this file is both the libtest-mimic harness (parent: one trial per
-//! check, never touching MPI itself) and the program those jobs run (`--child NAME`). The
-//! parent compares the numbers each rank count printed.
+//! Each check runs in its own `mpirun` job on 1 and on 2 ranks (see `common/harness.rs`).
 
 mod common;
 
-use libtest_mimic::{Arguments, Failed, Trial};
 use num_complex::Complex64;
 use squeal::petsc::{
     Comm, DirectPackage, EigenOptions, EigenProblem, EigenSolver, Factorization, LinearMethod,
     LinearSolver, Matrix, NewtonOptions, NonlinearSolver, PetscError, PetscInt,
-    QuadraticEigenSolver, QuadraticOptions, RowPattern, Runtime, RuntimeOptions, Spectrum, Vector,
+    QuadraticEigenSolver, QuadraticOptions, RowPattern, Runtime, Spectrum, Vector,
 };
 use std::f64::consts::PI;
 
-type Check = fn(&Runtime) -> Result<Vec<f64>, String>;
+use common::harness::Check;
 
-const CHECKS: &[(&str, Check, &[usize])] = &[
-    (
-        "laplacian_1d_ghep_interval",
-        laplacian_1d_ghep_interval,
-        &[1, 2],
-    ),
-    (
-        "laplacian_3d_ghep_target",
-        laplacian_3d_ghep_target,
-        &[1, 2],
-    ),
-    (
-        "block_gnhep_complex_shift_invert",
-        block_gnhep_complex,
-        &[1, 2],
-    ),
-    (
-        "snes_cubic_reaction_diffusion",
-        snes_known_solution,
-        &[1, 2],
-    ),
-    ("snes_callback_error_is_err", snes_callback_error, &[1, 2]),
-    ("pep_damped_oscillators", pep_closed_form, &[1, 2]),
-    (
-        "singular_solve_is_err_on_every_rank",
-        singular_solve,
-        &[1, 2],
-    ),
-    ("entry_outside_pattern_is_err", outside_pattern, &[1, 2]),
-    ("vector_gather_and_norms", vector_gather, &[1, 2]),
+/// Agreement between 1 and 2 ranks: the algorithms are the same, only the distribution of
+/// rows differs, so the numbers agree far below the solver tolerance; 1e-10 relative to the
+/// largest value leaves room for reordered sums in the factorisations and Krylov bases.
+const RANKS_AGREE: f64 = 1e-10;
+
+macro_rules! checks {
+    ($($name:literal => $f:ident),* $(,)?) => {
+        &[$(Check { name: $name, run: $f, ranks: &[1, 2], agreement: RANKS_AGREE }),*]
+    };
+}
+
+const CHECKS: &[Check] = checks![
+    "laplacian_1d_ghep_interval" => laplacian_1d_ghep_interval,
+    "laplacian_3d_ghep_target" => laplacian_3d_ghep_target,
+    "block_gnhep_complex_shift_invert" => block_gnhep_complex,
+    "snes_cubic_reaction_diffusion" => snes_known_solution,
+    "snes_callback_error_is_err" => snes_callback_error,
+    "pep_damped_oscillators" => pep_closed_form,
+    "singular_solve_is_err_on_every_rank" => singular_solve,
+    "entry_outside_pattern_is_err" => outside_pattern,
+    "vector_gather_and_norms" => vector_gather,
 ];
 
 fn main() {
-    let args: Vec<String> = std::env::args().collect();
-    if args.len() >= 3 && args[1] == "--child" {
-        std::process::exit(child(&args[2]));
-    }
-    let arguments = Arguments::from_args();
-    let exe = std::env::current_exe().expect("own path");
-    let trials = CHECKS
-        .iter()
-        .map(|&(name, _, ranks)| {
-            let exe = exe.clone();
-            Trial::test(name, move || parent(&exe, name, ranks))
-        })
-        .collect();
-    libtest_mimic::run(&arguments, trials).exit();
-}
-
-/// Runs the check under each rank count and compares the numbers they print.
-fn parent(exe: &std::path::Path, name: &str, ranks: &[usize]) -> Result<(), Failed> {
-    let mut results: Vec<(usize, Vec<f64>)> = Vec::new();
-    for &n in ranks {
-        let out = common::mpirun(n, exe, &["--child", name]);
-        if common::hung(&out) {
-            return Err(format!("{name} hung on {n} ranks\n{}", common::text(&out)).into());
-        }
-        if !out.status.success() {
-            return Err(format!("{name} failed on {n} ranks\n{}", common::text(&out)).into());
-        }
-        let stdout = String::from_utf8_lossy(&out.stdout);
-        let line = stdout
-            .lines()
-            .find_map(|l| l.strip_prefix("RESULT "))
-            .ok_or_else(|| format!("{name}: no RESULT line\n{}", common::text(&out)))?;
-        let numbers: Vec<f64> = serde_json::from_str(line).map_err(|e| e.to_string())?;
-        results.push((n, numbers));
-    }
-    // The same numbers from every rank count: the algorithms are the same, only the
-    // distribution of rows differs, so agreement to far below the solver tolerance is
-    // expected; 1e-10 relative to the largest value leaves room for reordered sums in the
-    // factorisations and Krylov bases.
-    let (n0, first) = &results[0];
-    let scale = first.iter().fold(1e-300f64, |m, v| m.max(v.abs()));
-    for (n, other) in &results[1..] {
-        if other.len() != first.len() {
-            return Err(format!(
-                "{name}: {} numbers on {n0} ranks, {} on {n}",
-                first.len(),
-                other.len()
-            )
-            .into());
-        }
-        for (i, (a, b)) in first.iter().zip(other).enumerate() {
-            if (a - b).abs() > 1e-10 * scale {
-                return Err(format!("{name}: value {i}: {a} on {n0} ranks, {b} on {n}").into());
-            }
-        }
-    }
-    Ok(())
-}
-
-fn child(name: &str) -> i32 {
-    let Some(&(_, check, _)) = CHECKS.iter().find(|c| c.0 == name) else {
-        eprintln!("no check named {name}");
-        return 2;
-    };
-    let rt = Runtime::init(&RuntimeOptions::default()).expect("PETSc initialises");
-    let rank = rt.world().rank();
-    let outcome = check(&rt);
-    let code = match outcome {
-        Ok(numbers) => {
-            if rank == 0 {
-                println!("RESULT {}", serde_json::to_string(&numbers).unwrap());
-            }
-            0
-        }
-        Err(why) => {
-            eprintln!("rank {rank}: {name}: {why}");
-            1
-        }
-    };
-    drop(rt);
-    code
+    common::harness::main(CHECKS);
 }
 
 // ---------------------------------------------------------------------------------------

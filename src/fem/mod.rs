@@ -1,5 +1,10 @@
 //! The structure: TET10 shape functions and element matrices, the DOF map and the
 //! distributed assembly into PETSc matrices.
 
+pub mod assemble;
+pub mod dofs;
 pub mod element;
 pub mod tet10;
+
+pub use assemble::{AssemblyError, StructureOptions};
+pub use dofs::{DofMap, Support};

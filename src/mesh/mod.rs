@@ -2,6 +2,7 @@
 //! make it from files, the built-in brake, and the VTU writer that shows it.
 
 pub mod abaqus;
+pub mod block;
 pub mod brake;
 mod error;
 pub mod gmsh;

@@ -136,6 +136,84 @@ impl Mesh {
     }
 }
 
+impl Mesh {
+    /// The sub-mesh made of the named parts: only their elements and the nodes those use,
+    /// renumbered; node sets and surfaces keep what lies in it (empty ones are dropped).
+    /// Errors name a part that does not exist.
+    pub fn extract_parts(&self, names: &[&str]) -> Result<Mesh, String> {
+        let mut keep_element = vec![false; self.elements.len()];
+        let mut parts = Vec::new();
+        for name in names {
+            let part = self
+                .parts
+                .iter()
+                .find(|p| p.name == *name)
+                .ok_or_else(|| format!("no part named '{name}'"))?;
+            for &e in &part.elements {
+                keep_element[e] = true;
+            }
+            parts.push(part.clone());
+        }
+        let mut new_node = vec![usize::MAX; self.nodes.len()];
+        let mut new_element = vec![usize::MAX; self.elements.len()];
+        let mut out = Mesh::default();
+        for (e, conn) in self.elements.iter().enumerate() {
+            if !keep_element[e] {
+                continue;
+            }
+            let mapped = conn.map(|n| {
+                if new_node[n] == usize::MAX {
+                    new_node[n] = out.nodes.len();
+                    out.nodes.push(self.nodes[n]);
+                    out.node_labels.push(self.node_labels[n]);
+                }
+                new_node[n]
+            });
+            new_element[e] = out.elements.len();
+            out.elements.push(mapped);
+            out.element_labels.push(self.element_labels[e]);
+        }
+        for mut part in parts {
+            part.elements = part.elements.iter().map(|&e| new_element[e]).collect();
+            if let Some(m) = part.material.as_ref().and_then(|m| self.materials.get(m)) {
+                out.materials.insert(m.name.clone(), m.clone());
+            }
+            out.parts.push(part);
+        }
+        for (name, nodes) in &self.node_sets {
+            let kept: Vec<usize> = nodes
+                .iter()
+                .filter_map(|&n| (new_node[n] != usize::MAX).then_some(new_node[n]))
+                .collect();
+            if !kept.is_empty() {
+                out.node_sets.insert(name.clone(), kept);
+            }
+        }
+        for (name, surface) in &self.surfaces {
+            let faces: Vec<Face> = surface
+                .faces
+                .iter()
+                .filter(|f| keep_element[f.element])
+                .map(|f| Face {
+                    element: new_element[f.element],
+                    side: f.side,
+                    nodes: f.nodes.map(|n| new_node[n]),
+                })
+                .collect();
+            if !faces.is_empty() {
+                out.surfaces.insert(
+                    name.clone(),
+                    Surface {
+                        name: name.clone(),
+                        faces,
+                    },
+                );
+            }
+        }
+        Ok(out)
+    }
+}
+
 pub(crate) fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }
@@ -172,6 +250,66 @@ mod tests {
             element_labels: vec![1],
             ..Default::default()
         }
+    }
+
+    #[test]
+    fn extracting_a_part_keeps_only_its_nodes_sets_and_faces() {
+        let mut m = unit_tet();
+        // A second element sharing face S1's corners, mirrored through z = 0.
+        let base = m.nodes.len();
+        m.nodes.push([0.0, 0.0, -1.0]);
+        m.node_labels.push(11);
+        // Corners 0, 2, 1 of the first tet plus the new apex: positive orientation.
+        let c = [0, 2, 1, base];
+        let mut conn = [0usize; 10];
+        conn[..4].copy_from_slice(&c);
+        for (k, [a, b]) in TET10_EDGES.iter().enumerate() {
+            let (xa, xb) = (m.nodes[c[*a]], m.nodes[c[*b]]);
+            let mid = [0, 1, 2].map(|d| 0.5 * (xa[d] + xb[d]));
+            conn[4 + k] = match m.nodes.iter().position(|x| *x == mid) {
+                Some(n) => n,
+                None => {
+                    m.nodes.push(mid);
+                    m.node_labels.push(m.nodes.len() as i64);
+                    m.nodes.len() - 1
+                }
+            };
+        }
+        m.elements.push(conn);
+        m.element_labels.push(2);
+        m.parts = vec![
+            Part {
+                name: "a".into(),
+                elements: vec![0],
+                material: None,
+            },
+            Part {
+                name: "b".into(),
+                elements: vec![1],
+                material: None,
+            },
+        ];
+        m.node_sets.insert("apex".into(), vec![3]);
+        m.surfaces.insert(
+            "top".into(),
+            Surface {
+                name: "top".into(),
+                faces: vec![m.face(0, 2)],
+            },
+        );
+        assert!(m.corner_volume(1) > 0.0);
+        let b = m.extract_parts(&["b"]).unwrap();
+        assert_eq!(b.elements.len(), 1);
+        assert_eq!(b.nodes.len(), 10);
+        assert!(!b.node_sets.contains_key("apex"));
+        assert!(b.surfaces.is_empty());
+        assert!(b.corner_volume(0) > 0.0);
+        let a = m.extract_parts(&["a"]).unwrap();
+        assert_eq!(
+            a.surfaces["top"].faces[0].nodes.map(|n| a.nodes[n]),
+            m.face(0, 2).nodes.map(|n| m.nodes[n])
+        );
+        assert!(m.extract_parts(&["c"]).unwrap_err().contains("'c'"));
     }
 
     #[test]

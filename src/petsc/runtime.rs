@@ -52,6 +52,58 @@ impl<'rt> Comm<'rt> {
     pub fn raw(&self) -> sys::MPI_Comm {
         self.raw
     }
+
+    /// Whether `flag` holds on every rank (collective). Used before a collective PETSc call
+    /// so that a failure seen by one rank stops all of them instead of leaving the others
+    /// waiting.
+    pub fn all(&self, flag: bool) -> bool {
+        let local = i32::from(flag);
+        let mut global = 0i32;
+        // SAFETY: one i32 each way on a live communicator.
+        unsafe {
+            sys::MPI_Allreduce(
+                (&local as *const i32).cast(),
+                (&mut global as *mut i32).cast(),
+                1,
+                sys::RSMPI_INT32_T,
+                sys::RSMPI_LAND,
+                self.raw,
+            );
+        }
+        global != 0
+    }
+
+    /// Element-wise sum of `values` over all ranks, in place (collective).
+    pub fn sum_in_place(&self, values: &mut [f64]) {
+        let local = values.to_vec();
+        // SAFETY: equal-length f64 buffers on a live communicator.
+        unsafe {
+            sys::MPI_Allreduce(
+                local.as_ptr().cast(),
+                values.as_mut_ptr().cast(),
+                values.len() as i32,
+                sys::RSMPI_DOUBLE,
+                sys::RSMPI_SUM,
+                self.raw,
+            );
+        }
+    }
+
+    /// Element-wise maximum over all ranks, in place (collective).
+    pub fn max_in_place(&self, values: &mut [f64]) {
+        let local = values.to_vec();
+        // SAFETY: as sum_in_place.
+        unsafe {
+            sys::MPI_Allreduce(
+                local.as_ptr().cast(),
+                values.as_mut_ptr().cast(),
+                values.len() as i32,
+                sys::RSMPI_DOUBLE,
+                sys::RSMPI_MAX,
+                self.raw,
+            );
+        }
+    }
 }
 
 impl Runtime {

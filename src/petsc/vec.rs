@@ -191,13 +191,31 @@ impl<'rt> Vector<'rt> {
         Ok(WriteGuard { v: self, ptr, n })
     }
 
-    /// Every entry of the vector on every rank (collective; allocates the global size).
+    /// Every entry of the vector on every rank (collective; allocates the global size on
+    /// each rank).
     pub fn gather_all(&self) -> Result<std::vec::Vec<f64>> {
+        self.gather(false)
+    }
+
+    /// Every entry of the vector on rank 0, an empty Vec elsewhere (collective).
+    pub fn gather_to_zero(&self) -> Result<std::vec::Vec<f64>> {
+        self.gather(true)
+    }
+
+    fn gather(&self, to_zero: bool) -> Result<std::vec::Vec<f64>> {
         let mut scatter = std::ptr::null_mut();
         let mut all = std::ptr::null_mut();
         // SAFETY: creates a scatter and a sequential vector, both destroyed below.
         unsafe {
-            check(sys::VecScatterCreateToAll(self.raw, &mut scatter, &mut all))?;
+            if to_zero {
+                check(sys::VecScatterCreateToZero(
+                    self.raw,
+                    &mut scatter,
+                    &mut all,
+                ))?;
+            } else {
+                check(sys::VecScatterCreateToAll(self.raw, &mut scatter, &mut all))?;
+            }
             let all = Vector::from_raw(all);
             let result = (|| {
                 check(sys::VecScatterBegin(

@@ -1,6 +1,8 @@
 //! Running programs under `mpirun` from tests.
 #![allow(dead_code)]
 
+pub mod harness;
+
 use std::path::Path;
 use std::process::{Command, Output};
 

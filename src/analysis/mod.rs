@@ -1,0 +1,4 @@
+//! What is solved on a model of any size: real modes, static equilibrium, complex
+//! eigenvalues. Every analysis takes assembled operators, not meshes.
+
+pub mod modes;

@@ -1,0 +1,252 @@
+//! Where a structural model comes from: a mesh file (Gmsh or Abaqus/CalculiX) or the
+//! built-in brake, plus the supports, materials and loads that go with it.
+
+use crate::fem::Support;
+use crate::mesh::{abaqus, brake, gmsh, Face, Material, Mesh, MeshError};
+use std::path::{Path, PathBuf};
+
+/// The plain data of a structural model: mesh, supports, loads, and what the file asked for.
+#[derive(Clone, Debug)]
+pub struct StructureModel {
+    /// "built-in brake 'tiny'" or the file name, for messages and reports.
+    pub source: String,
+    pub mesh: Mesh,
+    pub supports: Vec<Support>,
+    /// Pressures on faces (positive pushes into the body).
+    pub pressures: Vec<(Face, f64)>,
+    /// Nodal forces (node, component, value).
+    pub forces: Vec<(usize, usize, f64)>,
+    /// From an Abaqus `*FREQUENCY` step: (number of modes, upper frequency).
+    pub frequency_step: Option<(Option<usize>, Option<f64>)>,
+    pub warnings: Vec<String>,
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum ModelError {
+    #[error(transparent)]
+    Mesh(#[from] MeshError),
+    #[error("unknown preset '{0}': the built-in brake presets are {presets}", presets = brake::PRESETS.join(", "))]
+    UnknownPreset(String),
+    #[error("built-in brake: {0}")]
+    Brake(#[from] brake::BrakeError),
+    #[error("{file}: unknown mesh format (expected .msh or .inp)")]
+    UnknownFormat { file: PathBuf },
+    #[error("--fix {spec}: {why}")]
+    BadFix { spec: String, why: String },
+    #[error("--material {spec}: {why}")]
+    BadMaterial { spec: String, why: String },
+    #[error("{file}: {why}")]
+    Unsupported { file: PathBuf, why: String },
+}
+
+/// The built-in brake's supports for a structure without contact: the disc clamped at its
+/// hub, each pad held at its backplate ears (where it bears on the bracket).
+pub fn brake_supports(mesh: &Mesh) -> Vec<Support> {
+    [
+        "disc_hub",
+        "pad_inboard_abutment_leading",
+        "pad_inboard_abutment_trailing",
+        "pad_outboard_abutment_leading",
+        "pad_outboard_abutment_trailing",
+    ]
+    .iter()
+    .filter_map(|name| {
+        mesh.node_sets.get(*name).map(|nodes| Support {
+            name: name.to_string(),
+            nodes: nodes.clone(),
+            components: [true; 3],
+        })
+    })
+    .collect()
+}
+
+/// The built-in brake for a preset name.
+pub fn builtin(preset: &str) -> Result<StructureModel, ModelError> {
+    let params = brake::preset(preset).ok_or_else(|| ModelError::UnknownPreset(preset.into()))?;
+    let mesh = brake::build(&params)?;
+    Ok(StructureModel {
+        source: format!("built-in brake '{preset}'"),
+        supports: brake_supports(&mesh),
+        mesh,
+        pressures: vec![],
+        forces: vec![],
+        frequency_step: None,
+        warnings: vec![],
+    })
+}
+
+/// Reads a mesh file: `.msh` (Gmsh, no supports or materials of its own) or `.inp`
+/// (Abaqus/CalculiX: materials, sections, the first `*FREQUENCY` step's supports and loads).
+pub fn read(path: &Path) -> Result<StructureModel, ModelError> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    match ext.as_deref() {
+        Some("msh") => Ok(StructureModel {
+            source: path.display().to_string(),
+            mesh: gmsh::read(path)?,
+            supports: vec![],
+            pressures: vec![],
+            forces: vec![],
+            frequency_step: None,
+            warnings: vec![],
+        }),
+        Some("inp") => from_deck(path, abaqus::read(path)?),
+        _ => Err(ModelError::UnknownFormat {
+            file: path.to_path_buf(),
+        }),
+    }
+}
+
+fn from_deck(path: &Path, deck: abaqus::Deck) -> Result<StructureModel, ModelError> {
+    // The analysis the deck asks for: its first *FREQUENCY step, else the model data.
+    let step = deck
+        .steps
+        .iter()
+        .position(|s| matches!(s.procedure, abaqus::Procedure::Frequency(_)));
+    let loading = match step {
+        Some(k) => deck.loading_in_step(k).unwrap_or_default(),
+        None => deck.model_loading(),
+    };
+    let frequency_step = step.and_then(|k| match &deck.steps[k].procedure {
+        abaqus::Procedure::Frequency(f) => Some((f.eigenvalues, f.upper_frequency)),
+        _ => None,
+    });
+    let mut held: std::collections::BTreeMap<usize, [bool; 3]> = Default::default();
+    for (&(node, c), &value) in &loading.displacements {
+        if value != 0.0 {
+            return Err(ModelError::Unsupported {
+                file: path.to_path_buf(),
+                why: format!(
+                    "*BOUNDARY prescribes {value} on node {} component {}: squeal supports only \
+                     zero displacements",
+                    deck.mesh.node_labels[node],
+                    c + 1
+                ),
+            });
+        }
+        held.entry(node).or_default()[c] = true;
+    }
+    // One support per distinct component pattern keeps the list short.
+    let mut supports: Vec<Support> = Vec::new();
+    for (node, components) in held {
+        match supports.iter_mut().find(|s| s.components == components) {
+            Some(s) => s.nodes.push(node),
+            None => supports.push(Support {
+                name: format!("*BOUNDARY {components:?}"),
+                nodes: vec![node],
+                components,
+            }),
+        }
+    }
+    Ok(StructureModel {
+        source: path.display().to_string(),
+        supports,
+        pressures: loading.pressures.iter().map(|(f, p)| (*f, *p)).collect(),
+        forces: loading
+            .forces
+            .iter()
+            .map(|(&(n, c), &v)| (n, c, v))
+            .collect(),
+        frequency_step,
+        warnings: deck.warnings.clone(),
+        mesh: deck.mesh,
+    })
+}
+
+/// Applies `--fix SET[:xyz]` (components default to all three).
+pub fn add_fix(model: &mut StructureModel, spec: &str) -> Result<(), ModelError> {
+    let (set, comps) = spec.split_once(':').unwrap_or((spec, "xyz"));
+    let mut components = [false; 3];
+    for ch in comps.chars() {
+        let c = match ch.to_ascii_lowercase() {
+            'x' | '1' => 0,
+            'y' | '2' => 1,
+            'z' | '3' => 2,
+            _ => {
+                return Err(ModelError::BadFix {
+                    spec: spec.into(),
+                    why: format!("'{ch}' is not a component (use x, y, z)"),
+                })
+            }
+        };
+        components[c] = true;
+    }
+    let nodes = find_set(&model.mesh, set).ok_or_else(|| ModelError::BadFix {
+        spec: spec.into(),
+        why: format!(
+            "no node set or surface named '{set}' (the mesh has: {})",
+            model
+                .mesh
+                .node_sets
+                .keys()
+                .cloned()
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
+    })?;
+    model.supports.push(Support {
+        name: set.to_string(),
+        nodes,
+        components,
+    });
+    Ok(())
+}
+
+fn find_set(mesh: &Mesh, name: &str) -> Option<Vec<usize>> {
+    let key = mesh
+        .node_sets
+        .keys()
+        .find(|k| k.as_str() == name || k.eq_ignore_ascii_case(name))?;
+    Some(mesh.node_sets[key].clone())
+}
+
+/// Applies `--material PART=E,nu,rho` (defines a material named after the part).
+pub fn add_material(model: &mut StructureModel, spec: &str) -> Result<(), ModelError> {
+    let bad = |why: String| ModelError::BadMaterial {
+        spec: spec.into(),
+        why,
+    };
+    let (part, values) = spec
+        .split_once('=')
+        .ok_or_else(|| bad("expected PART=E,nu,rho".into()))?;
+    let numbers: Vec<f64> = values
+        .split(',')
+        .map(|v| v.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| bad(format!("'{values}' is not three numbers E,nu,rho")))?;
+    let [young, poisson, density] = numbers[..] else {
+        return Err(bad(format!(
+            "{} numbers given, E,nu,rho needs 3",
+            numbers.len()
+        )));
+    };
+    if !(young > 0.0 && poisson > -1.0 && poisson < 0.5 && density > 0.0) {
+        return Err(bad("need E > 0, -1 < nu < 0.5, rho > 0".into()));
+    }
+    let names: Vec<String> = model.mesh.parts.iter().map(|p| p.name.clone()).collect();
+    let p = model
+        .mesh
+        .parts
+        .iter_mut()
+        .find(|p| p.name == part || p.name.eq_ignore_ascii_case(part))
+        .ok_or_else(|| {
+            bad(format!(
+                "no part named '{part}' (parts: {})",
+                names.join(", ")
+            ))
+        })?;
+    p.material = Some(p.name.clone());
+    let name = p.name.clone();
+    model.mesh.materials.insert(
+        name.clone(),
+        Material {
+            name,
+            young,
+            poisson,
+            density,
+        },
+    );
+    Ok(())
+}

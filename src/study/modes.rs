@@ -1,0 +1,253 @@
+//! `squeal modes`: real modes of a mesh file or of the built-in brake, as a table, JSON,
+//! CSV and a VTU file with every mode shape.
+
+use super::model::{self, StructureModel};
+use super::report::{collective, write_atomically};
+use crate::analysis::modes::{real_modes, ModeBand, ModesOptions, RealMode};
+use crate::fem::{assemble, element::MassRule, DofMap, StructureOptions};
+use crate::mesh::vtu::{Field, VtuWriter};
+use crate::petsc::Runtime;
+use anyhow::Context;
+use std::path::PathBuf;
+use std::time::Instant;
+
+/// What `squeal modes` was asked.
+#[derive(Clone, Debug, Default)]
+pub struct ModesArgs {
+    /// A `.msh` or `.inp` file; `None` for the built-in brake.
+    pub mesh: Option<PathBuf>,
+    pub preset: String,
+    pub max_frequency_hz: Option<f64>,
+    pub count: Option<usize>,
+    pub fixes: Vec<String>,
+    pub materials: Vec<String>,
+    pub mass_rule: MassRule,
+    pub output: PathBuf,
+    pub tolerance: f64,
+}
+
+/// The model as `modes` (and later commands) build it: file or built-in, plus command-line
+/// supports and materials. Same on every rank; collective.
+pub fn load_model(
+    rt: &Runtime,
+    mesh: Option<&std::path::Path>,
+    preset: &str,
+    fixes: &[String],
+    materials: &[String],
+) -> anyhow::Result<StructureModel> {
+    let local = (|| -> Result<StructureModel, model::ModelError> {
+        let mut m = match mesh {
+            Some(path) => model::read(path)?,
+            None => model::builtin(preset)?,
+        };
+        for f in fixes {
+            model::add_fix(&mut m, f)?;
+        }
+        for spec in materials {
+            model::add_material(&mut m, spec)?;
+        }
+        Ok(m)
+    })();
+    collective(rt.world(), local)
+}
+
+/// The `modes.json` document.
+#[derive(serde::Serialize)]
+struct ModesDocument<'a> {
+    modes: &'a [RealMode],
+    model: ModelSummary,
+}
+
+#[derive(serde::Serialize)]
+pub struct ModelSummary {
+    pub source: String,
+    pub nodes: usize,
+    pub elements: usize,
+    pub equations: usize,
+    pub ranks: usize,
+    pub mass_rule: MassRule,
+    pub parts: Vec<(String, String)>,
+    pub supports: Vec<String>,
+}
+
+/// Runs `squeal modes` (collective); rank 0 prints and writes.
+pub fn run(rt: &Runtime, args: &ModesArgs) -> anyhow::Result<()> {
+    let comm = rt.world();
+    let root = comm.rank() == 0;
+    let started = Instant::now();
+    let model = load_model(
+        rt,
+        args.mesh.as_deref(),
+        &args.preset,
+        &args.fixes,
+        &args.materials,
+    )?;
+    if root {
+        for w in &model.warnings {
+            tracing::warn!("{w}");
+        }
+    }
+    let band = match (args.max_frequency_hz, args.count, model.frequency_step) {
+        (Some(f), _, _) => ModeBand::Below {
+            max_frequency_hz: f,
+        },
+        (None, Some(n), _) => ModeBand::Lowest { count: n },
+        (None, None, Some((_, Some(f)))) => ModeBand::Below {
+            max_frequency_hz: f,
+        },
+        (None, None, Some((Some(n), None))) => ModeBand::Lowest { count: n },
+        _ => ModeBand::Below {
+            max_frequency_hz: 10_000.0,
+        },
+    };
+    let mesh = &model.mesh;
+    let dofs = collective(
+        comm,
+        DofMap::new(
+            mesh.nodes.len(),
+            0,
+            &model.supports,
+            comm.size(),
+            comm.rank(),
+        )
+        .map_err(anyhow::Error::msg),
+    )?;
+    if root {
+        tracing::info!(
+            "{}: {} nodes, {} elements, {} equations on {} rank(s)",
+            model.source,
+            mesh.nodes.len(),
+            mesh.elements.len(),
+            dofs.equations(),
+            comm.size()
+        );
+    }
+    let t = Instant::now();
+    let pattern = assemble::pattern(&dofs, mesh.elements.iter().map(|c| &c[..]));
+    let options = StructureOptions {
+        mass_rule: args.mass_rule,
+    };
+    let (k, m) = collective(
+        comm,
+        assemble::stiffness_and_mass(comm, mesh, &dofs, &pattern, options),
+    )?;
+    if root {
+        tracing::info!(
+            "assembled K and M in {:.2} s ({} nonzeros on rank 0)",
+            t.elapsed().as_secs_f64(),
+            pattern.nonzeros()
+        );
+    }
+    let t = Instant::now();
+    let solution = real_modes(
+        comm,
+        &k,
+        &m,
+        &ModesOptions {
+            band: band.clone(),
+            tolerance: args.tolerance,
+            ..Default::default()
+        },
+    )
+    .context("real modes")?;
+    if root {
+        tracing::info!(
+            "eigen-solve: {} modes in {:.2} s",
+            solution.modes.len(),
+            t.elapsed().as_secs_f64()
+        );
+    }
+    // Shapes to rank 0 (collective), then rank 0 writes everything.
+    let mut shapes = Vec::with_capacity(solution.shapes.len());
+    for s in &solution.shapes {
+        shapes.push(s.gather_to_zero()?);
+    }
+    if !root {
+        return Ok(());
+    }
+    print!("{}", table(&solution.modes));
+    let summary = ModelSummary {
+        source: model.source.clone(),
+        nodes: mesh.nodes.len(),
+        elements: mesh.elements.len(),
+        equations: dofs.equations(),
+        ranks: comm.size(),
+        mass_rule: args.mass_rule,
+        parts: mesh
+            .parts
+            .iter()
+            .map(|p| (p.name.clone(), p.material.clone().unwrap_or_default()))
+            .collect(),
+        supports: model.supports.iter().map(|s| s.name.clone()).collect(),
+    };
+    write_outputs(args, &model, &dofs, &solution.modes, &shapes, summary)?;
+    println!(
+        "{} modes ({:?}) in {:.1} s; results in {}",
+        solution.modes.len(),
+        band,
+        started.elapsed().as_secs_f64(),
+        args.output.display()
+    );
+    Ok(())
+}
+
+fn write_outputs(
+    args: &ModesArgs,
+    model: &StructureModel,
+    dofs: &DofMap,
+    modes: &[RealMode],
+    shapes: &[Vec<f64>],
+    summary: ModelSummary,
+) -> anyhow::Result<()> {
+    let json = serde_json::to_vec_pretty(&ModesDocument {
+        modes,
+        model: summary,
+    })?;
+    let mut csv = String::from("index,frequency_hz,eigenvalue,residual,rigid_body\n");
+    for m in modes {
+        csv.push_str(&format!(
+            "{},{:.10e},{:.10e},{:.3e},{}\n",
+            m.index, m.frequency_hz, m.eigenvalue, m.residual, m.rigid_body
+        ));
+    }
+    let fields: Vec<Field> = modes
+        .iter()
+        .zip(shapes)
+        .map(|(m, s)| {
+            let u = dofs.displacements(s);
+            Field::vector(format!("mode_{:03}_{:.1}Hz", m.index, m.frequency_hz), &u)
+        })
+        .collect();
+    let out = &args.output;
+    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
+    let parts = Field::part_ids(&model.mesh, 0);
+    let mut writer = VtuWriter::new(&model.mesh).cell_field(&parts);
+    for f in &fields {
+        writer = writer.point_field(f);
+    }
+    writer.write(&out.join("modes.vtu"))?;
+    write_atomically(&out.join("modes.json"), &json)
+        .with_context(|| format!("writing {}", out.join("modes.json").display()))?;
+    write_atomically(&out.join("modes.csv"), csv.as_bytes())
+        .with_context(|| format!("writing {}", out.join("modes.csv").display()))?;
+    Ok(())
+}
+
+/// The table printed on screen.
+pub fn table(modes: &[RealMode]) -> String {
+    let mut s = String::from("  mode   frequency (Hz)     omega^2 (rad2/s2)   residual\n");
+    for m in modes {
+        s.push_str(&format!(
+            "  {:>4}   {:>14.4}   {:>18.6e}   {:>8.1e}{}\n",
+            m.index,
+            m.frequency_hz,
+            m.eigenvalue,
+            m.residual,
+            if m.rigid_body { "   rigid-body" } else { "" }
+        ));
+    }
+    if modes.is_empty() {
+        s.push_str("  (no modes in the band)\n");
+    }
+    s
+}

@@ -1,0 +1,90 @@
+//! `squeal mesh`: writes the built-in brake (or converts a mesh file) to Gmsh `.msh` and a
+//! `.vtu` beside it, so a person can look at the model.
+
+use super::modes::load_model;
+use crate::fem::element;
+use crate::mesh::vtu::{Field, VtuWriter};
+use crate::mesh::{gmsh, Mesh};
+use crate::petsc::Runtime;
+use std::path::{Path, PathBuf};
+
+/// Writes `output` (.msh) and the same stem with .vtu; rank 0 only. Collective (loads the
+/// model on every rank so errors are reported alike).
+pub fn run(rt: &Runtime, mesh: Option<&Path>, preset: &str, output: &Path) -> anyhow::Result<()> {
+    let model = load_model(rt, mesh, preset, &[], &[])?;
+    if rt.world().rank() != 0 {
+        return Ok(());
+    }
+    let msh = if output.extension().is_some() {
+        output.to_path_buf()
+    } else {
+        output.with_extension("msh")
+    };
+    let vtu: PathBuf = msh.with_extension("vtu");
+    if let Some(dir) = msh.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir)?;
+    }
+    gmsh::write(&msh, &model.mesh)?;
+    let parts = Field::part_ids(&model.mesh, 0);
+    let surfaces = surface_field(&model.mesh);
+    VtuWriter::new(&model.mesh)
+        .cell_field(&parts)
+        .point_field(&surfaces)
+        .write(&vtu)?;
+    println!("{}", describe(&model.mesh, &model.source));
+    println!("wrote {} and {}", msh.display(), vtu.display());
+    Ok(())
+}
+
+/// A point field numbering the named surfaces (0 = none), to see them in ParaView.
+fn surface_field(mesh: &Mesh) -> Field {
+    let mut id = vec![0.0; mesh.nodes.len()];
+    for (k, s) in mesh.surfaces.values().enumerate() {
+        for f in &s.faces {
+            for &n in &f.nodes {
+                id[n] = (k + 1) as f64;
+            }
+        }
+    }
+    Field::scalar("surface", id)
+}
+
+/// A human summary: counts, parts with materials and volumes, surfaces and node sets.
+pub fn describe(mesh: &Mesh, source: &str) -> String {
+    let mut s = format!(
+        "{source}: {} nodes, {} elements\n",
+        mesh.nodes.len(),
+        mesh.elements.len()
+    );
+    for p in &mesh.parts {
+        let volume: f64 = p
+            .elements
+            .iter()
+            .map(|&e| element::volume(&mesh.elements[e].map(|n| mesh.nodes[n])).unwrap_or(f64::NAN))
+            .sum();
+        s.push_str(&format!(
+            "  part {:<28} {:>8} elements  material {:<18} volume {:.4e}\n",
+            p.name,
+            p.elements.len(),
+            p.material.as_deref().unwrap_or("(none)"),
+            volume
+        ));
+    }
+    for (name, surf) in &mesh.surfaces {
+        s.push_str(&format!(
+            "  surface {:<26} {:>6} faces\n",
+            name,
+            surf.faces.len()
+        ));
+    }
+    for (name, nodes) in &mesh.node_sets {
+        if !mesh.surfaces.contains_key(name) {
+            s.push_str(&format!(
+                "  node set {:<25} {:>6} nodes\n",
+                name,
+                nodes.len()
+            ));
+        }
+    }
+    s
+}

@@ -1,0 +1,99 @@
+//! The harness for tests that need PETSc. PETSc can be initialised once per process and is
+//! not thread-safe, so every check runs in its own `mpirun` job: a test file using this is
+//! both the libtest-mimic harness (parent: one trial per check, never touching MPI itself)
+//! and the program those jobs run (`--child NAME`). The parent runs each check on every
+//! rank count it lists and compares the numbers the runs printed.
+
+use libtest_mimic::{Arguments, Failed, Trial};
+use squeal::petsc::{Runtime, RuntimeOptions};
+
+/// A check: computes on the runtime, verifies against an independent answer, and returns
+/// the numbers that must not depend on the rank count.
+pub type CheckFn = fn(&Runtime) -> Result<Vec<f64>, String>;
+
+pub struct Check {
+    pub name: &'static str,
+    pub run: CheckFn,
+    pub ranks: &'static [usize],
+    /// Largest difference between rank counts, relative to the largest number.
+    pub agreement: f64,
+}
+
+pub fn main(checks: &'static [Check]) {
+    let args: Vec<String> = std::env::args().collect();
+    if args.len() >= 3 && args[1] == "--child" {
+        std::process::exit(child(checks, &args[2]));
+    }
+    let arguments = Arguments::from_args();
+    let exe = std::env::current_exe().expect("own path");
+    let trials = checks
+        .iter()
+        .map(|c| {
+            let exe = exe.clone();
+            Trial::test(c.name, move || parent(&exe, c))
+        })
+        .collect();
+    libtest_mimic::run(&arguments, trials).exit();
+}
+
+fn parent(exe: &std::path::Path, check: &Check) -> Result<(), Failed> {
+    let name = check.name;
+    let mut results: Vec<(usize, Vec<f64>)> = Vec::new();
+    for &n in check.ranks {
+        let out = super::mpirun(n, exe, &["--child", name]);
+        if super::hung(&out) {
+            return Err(format!("{name} hung on {n} ranks\n{}", super::text(&out)).into());
+        }
+        if !out.status.success() {
+            return Err(format!("{name} failed on {n} ranks\n{}", super::text(&out)).into());
+        }
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        let line = stdout
+            .lines()
+            .find_map(|l| l.strip_prefix("RESULT "))
+            .ok_or_else(|| format!("{name}: no RESULT line\n{}", super::text(&out)))?;
+        let numbers: Vec<f64> = serde_json::from_str(line).map_err(|e| e.to_string())?;
+        results.push((n, numbers));
+    }
+    let (n0, first) = &results[0];
+    let scale = first.iter().fold(1e-300f64, |m, v| m.max(v.abs()));
+    for (n, other) in &results[1..] {
+        if other.len() != first.len() {
+            return Err(format!(
+                "{name}: {} numbers on {n0} ranks, {} on {n}",
+                first.len(),
+                other.len()
+            )
+            .into());
+        }
+        for (i, (a, b)) in first.iter().zip(other).enumerate() {
+            if (a - b).abs() > check.agreement * scale {
+                return Err(format!("{name}: value {i}: {a} on {n0} ranks, {b} on {n}").into());
+            }
+        }
+    }
+    Ok(())
+}
+
+fn child(checks: &[Check], name: &str) -> i32 {
+    let Some(check) = checks.iter().find(|c| c.name == name) else {
+        eprintln!("no check named {name}");
+        return 2;
+    };
+    let rt = Runtime::init(&RuntimeOptions::default()).expect("PETSc initialises");
+    let rank = rt.world().rank();
+    let code = match (check.run)(&rt) {
+        Ok(numbers) => {
+            if rank == 0 {
+                println!("RESULT {}", serde_json::to_string(&numbers).unwrap());
+            }
+            0
+        }
+        Err(why) => {
+            eprintln!("rank {rank}: {name}: {why}");
+            1
+        }
+    };
+    drop(rt);
+    code
+}

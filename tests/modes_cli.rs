@@ -1,0 +1,219 @@
+//! `squeal modes` and `squeal mesh` run as a user runs them (the binary under mpirun), checked
+//! against CalculiX, against themselves through a file round trip, and on bad input.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+
+fn squeal() -> &'static Path {
+    Path::new(env!("CARGO_BIN_EXE_squeal"))
+}
+
+fn data(name: &str) -> String {
+    format!("{}/tests/data/{name}", env!("CARGO_MANIFEST_DIR"))
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("squeal-test-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// Runs squeal, asserts success, returns modes.json's eigenvalues (omega^2).
+fn modes(ranks: usize, args: &[&str], out: &Path) -> Vec<f64> {
+    let mut all: Vec<&str> = vec!["modes"];
+    all.extend_from_slice(args);
+    let out_s = out.to_str().unwrap();
+    all.extend_from_slice(&["-o", out_s]);
+    let run = common::mpirun(ranks, squeal(), &all);
+    assert!(run.status.success(), "{}", common::text(&run));
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("modes.json")).unwrap()).unwrap();
+    json["modes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|m| m["eigenvalue"].as_f64().unwrap())
+        .collect()
+}
+
+fn reference(name: &str) -> Vec<f64> {
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(data(name)).unwrap()).unwrap();
+    json["eigenvalues"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_f64().unwrap())
+        .collect()
+}
+
+fn assert_close(ours: &[f64], theirs: &[f64], tolerance: f64, what: &str) {
+    assert!(ours.len() <= theirs.len(), "{what}: {ours:?} vs {theirs:?}");
+    for (i, (a, b)) in ours.iter().zip(theirs).enumerate() {
+        let rel = ((a - b) / b).abs();
+        assert!(
+            rel <= tolerance,
+            "{what}: mode {}: {a} vs {b} ({rel:e})",
+            i + 1
+        );
+    }
+}
+
+/// CalculiX 2.20 on the same C3D10 cantilever deck, with the same (4-point) mass rule: both
+/// programs integrate the same element matrices, so only the solvers' round-off separates
+/// them; ccx's values were read as binary doubles (.eig). Asked: 1e-5 relative.
+#[test]
+fn beam_deck_matches_calculix_with_gauss4_mass() {
+    let out = scratch("beam-ccx");
+    let ours = modes(2, &[&data("beam_c3d10.inp"), "--mass-rule", "gauss4"], &out);
+    let theirs = reference("beam_c3d10.ccx.json");
+    assert_eq!(ours.len(), 10, "the deck's *FREQUENCY asks for 10 modes");
+    assert_close(&ours, &theirs, 1e-5, "beam vs CalculiX");
+}
+
+/// The same on a clamped cast-iron disc (17,472 nodes): every mode below 10 kHz, doublets
+/// included, found once.
+#[test]
+fn disc_deck_matches_calculix_below_10khz() {
+    let out = scratch("disc-ccx");
+    let ours = modes(
+        2,
+        &[
+            &data("disc_c3d10.inp"),
+            "--mass-rule",
+            "gauss4",
+            "--fmax",
+            "10000",
+        ],
+        &out,
+    );
+    let theirs = reference("disc_c3d10.ccx.json");
+    let below: Vec<f64> = theirs
+        .iter()
+        .copied()
+        .filter(|&l| l.sqrt() / (2.0 * std::f64::consts::PI) < 10_000.0)
+        .collect();
+    assert_eq!(ours.len(), below.len(), "{ours:?}");
+    assert_close(&ours, &below, 1e-5, "disc vs CalculiX");
+}
+
+/// The built-in brake written as .msh by `squeal mesh` and read back, with its materials and
+/// supports given on the command line, has the same modes as the built-in model itself: the
+/// writer, the reader and the node-order conversion lose nothing.
+#[test]
+fn mesh_file_round_trip_gives_the_same_modes_as_the_builtin_model() {
+    let dir = scratch("roundtrip");
+    let msh = dir.join("brake.msh");
+    let run = common::mpirun(
+        1,
+        squeal(),
+        &["mesh", "--preset", "tiny", "-o", msh.to_str().unwrap()],
+    );
+    assert!(run.status.success(), "{}", common::text(&run));
+    assert!(dir.join("brake.vtu").is_file());
+    let builtin = modes(2, &["--preset", "tiny", "--fmax", "5000"], &dir.join("a"));
+    let mut args = vec![
+        msh.to_str().unwrap().to_string(),
+        "--fmax".into(),
+        "5000".into(),
+    ];
+    for (part, material) in [
+        ("disc", "125e9,0.25,7200"),
+        ("pad_inboard_friction", "8e9,0.25,2500"),
+        ("pad_outboard_friction", "8e9,0.25,2500"),
+        ("pad_inboard_backplate", "210e9,0.3,7850"),
+        ("pad_outboard_backplate", "210e9,0.3,7850"),
+    ] {
+        args.push("--material".into());
+        args.push(format!("{part}={material}"));
+    }
+    for set in [
+        "disc_hub",
+        "pad_inboard_abutment_leading",
+        "pad_inboard_abutment_trailing",
+        "pad_outboard_abutment_leading",
+        "pad_outboard_abutment_trailing",
+    ] {
+        args.push("--fix".into());
+        args.push(set.into());
+    }
+    let refs: Vec<&str> = args.iter().map(String::as_str).collect();
+    let from_file = modes(2, &refs, &dir.join("b"));
+    assert_eq!(builtin.len(), from_file.len());
+    assert_close(&from_file, &builtin, 1e-8, "msh round trip vs built-in");
+    // The other outputs are there, whole.
+    let csv = std::fs::read_to_string(dir.join("a/modes.csv")).unwrap();
+    assert_eq!(csv.lines().count(), builtin.len() + 1);
+    let vtu = std::fs::read_to_string(dir.join("a/modes.vtu")).unwrap();
+    assert!(vtu.trim_end().ends_with("</VTKFile>"));
+    assert_eq!(vtu.matches("Name=\"mode_").count(), builtin.len());
+}
+
+/// The error a run printed, checking it failed cleanly: no hang, no panic, said once.
+fn failure(ranks: usize, args: &[&str]) -> String {
+    let run = common::mpirun(ranks, squeal(), args);
+    assert!(!common::hung(&run), "{}", common::text(&run));
+    assert!(!run.status.success(), "{}", common::text(&run));
+    let stderr = String::from_utf8_lossy(&run.stderr).to_string();
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert_eq!(stderr.matches("squeal: error").count(), 1, "{stderr}");
+    stderr
+}
+
+#[test]
+fn bad_input_gives_one_clear_error_and_no_results() {
+    let dir = scratch("bad");
+    let out = dir.join("out");
+    let o = out.to_str().unwrap();
+    // A missing file names itself.
+    let e = failure(2, &["modes", "/nonexistent/brake.inp", "-o", o]);
+    assert!(e.contains("/nonexistent/brake.inp"), "{e}");
+    // An unknown preset lists the ones there are.
+    let e = failure(2, &["modes", "--preset", "huge", "-o", o]);
+    assert!(e.contains("huge") && e.contains("tiny"), "{e}");
+    // A .msh has no materials: the part is named, and what to do.
+    let msh = dir.join("two.msh");
+    std::fs::copy(data("gmsh_two_boxes_41.msh"), &msh).unwrap();
+    let e = failure(2, &["modes", msh.to_str().unwrap(), "-o", o]);
+    assert!(
+        e.contains("has no material") && e.contains("--material"),
+        "{e}"
+    );
+    // A support on a set that does not exist names it.
+    let e = failure(
+        1,
+        &["modes", "--preset", "tiny", "--fix", "bracket", "-o", o],
+    );
+    assert!(e.contains("bracket"), "{e}");
+    // A truncated deck names the file and the line.
+    let deck = std::fs::read_to_string(data("beam_c3d10.inp")).unwrap();
+    let cut = &deck[..deck.find("*ELEMENT").unwrap() + 200];
+    let truncated = dir.join("cut.inp");
+    std::fs::write(&truncated, cut).unwrap();
+    let e = failure(2, &["modes", truncated.to_str().unwrap(), "-o", o]);
+    assert!(e.contains("cut.inp:"), "{e}");
+    // An inverted element (two corners swapped) is refused, naming the element.
+    let bad = swap_two_corners_of_first_element(&deck);
+    let inverted = dir.join("inverted.inp");
+    std::fs::write(&inverted, bad).unwrap();
+    let e = failure(2, &["modes", inverted.to_str().unwrap(), "-o", o]);
+    assert!(e.to_lowercase().contains("element"), "{e}");
+    // Nothing was written by any of these runs.
+    assert!(!out.join("modes.json").exists());
+}
+
+/// Swaps corners 2 and 3 of the first C3D10 element line (turning it inside out).
+fn swap_two_corners_of_first_element(deck: &str) -> String {
+    let mut lines: Vec<String> = deck.lines().map(String::from).collect();
+    let start = lines
+        .iter()
+        .position(|l| l.to_uppercase().starts_with("*ELEMENT"))
+        .unwrap();
+    let line = &mut lines[start + 1];
+    let mut f: Vec<String> = line.split(',').map(|s| s.trim().to_string()).collect();
+    f.swap(2, 3);
+    *line = f.join(", ");
+    lines.join("\n")
+}
