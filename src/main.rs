@@ -57,6 +57,21 @@ enum Command {
         #[arg(short, long, default_value = "brake.msh")]
         output: PathBuf,
     },
+    /// Time mesh generation, assembly and the modal solve on built-in presets (medians).
+    Bench {
+        /// Comma-separated presets (tiny, small, medium, industrial).
+        #[arg(long, default_value = "tiny,small,medium", value_delimiter = ',')]
+        presets: Vec<String>,
+        /// Runs per preset (the median is reported).
+        #[arg(long, default_value_t = 3)]
+        repeat: usize,
+        /// Modes below this frequency (Hz).
+        #[arg(long, default_value_t = 10_000.0)]
+        fmax: f64,
+        /// JSON file for the figures.
+        #[arg(short, long, default_value = "bench.json")]
+        output: PathBuf,
+    },
     /// Real modes (K phi = omega^2 M phi) of a mesh file or of the built-in brake.
     Modes {
         /// A .msh or .inp file; the built-in brake when absent. An .inp deck's *FREQUENCY
@@ -115,6 +130,12 @@ fn main() -> ExitCode {
         .init();
     let result = match cli.command {
         Command::Info { json } => study::info::run(&rt, json),
+        Command::Bench {
+            presets,
+            repeat,
+            fmax,
+            output,
+        } => study::bench::run(&rt, &presets, repeat, fmax, &output),
         Command::Mesh {
             mesh,
             preset,

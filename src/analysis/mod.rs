@@ -1,4 +1,7 @@
 //! What is solved on a model of any size: real modes, static equilibrium, complex
 //! eigenvalues. Every analysis takes assembled operators, not meshes.
 
+pub mod cea;
 pub mod modes;
+pub mod operators;
+pub mod tracking;

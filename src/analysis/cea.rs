@@ -1,0 +1,374 @@
+//! Complex eigenvalue analysis (CEA) on any (K_t, M[, C]): the linearised stability of the
+//! sliding equilibrium. Undamped, K_t phi = omega^2 M phi is a generalised non-Hermitian
+//! problem solved by shift-and-invert about targets stepped along the real omega^2 axis, so
+//! that every mode of the band is found once; damped, (lambda^2 M + lambda C + K_t) phi = 0
+//! is a quadratic problem (SLEPc PEP).
+//!
+//! Each omega^2 gives lambda = i sqrt(omega^2) = a + i b (principal root, b >= 0): frequency
+//! b / 2 pi, real part a. Friction couples two modes into a pair omega^2 = x +/- i y, whose
+//! lambdas have real parts -/+ a at one frequency: the mode with a > 0 grows (squeal).
+
+use crate::petsc::{
+    Comm, EigenOptions, EigenProblem, EigenSolver, LinearMethod, Matrix, PetscError,
+    QuadraticEigenSolver, QuadraticOptions, Spectrum, Vector,
+};
+use num_complex::Complex64;
+use std::f64::consts::PI;
+
+/// Rayleigh damping C = alpha M + beta K (K the structure's stiffness, without contact).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct RayleighDamping {
+    pub alpha: f64,
+    pub beta: f64,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct CeaOptions {
+    /// Modes from 0 Hz up to this frequency.
+    pub max_frequency_hz: f64,
+    /// Pairs asked of SLEPc around each target (the window size).
+    pub modes_per_target: usize,
+    pub tolerance: f64,
+    /// A mode is unstable when its real part exceeds this fraction of |lambda|: above the
+    /// round-off of a non-symmetric solve (~1e-10), far below any physical growth rate.
+    pub unstable_threshold: f64,
+    pub linear: LinearMethod,
+}
+
+impl Default for CeaOptions {
+    fn default() -> Self {
+        CeaOptions {
+            max_frequency_hz: 10_000.0,
+            modes_per_target: 30,
+            tolerance: 1e-10,
+            unstable_threshold: 1e-6,
+            linear: LinearMethod::default(),
+        }
+    }
+}
+
+/// One complex mode (one lambda with non-negative frequency).
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct ComplexMode {
+    pub frequency_hz: f64,
+    /// Re(lambda), 1/s: positive grows.
+    pub real_part: f64,
+    /// -Re(lambda) / |lambda|.
+    pub damping_ratio: f64,
+    pub unstable: bool,
+    /// SLEPc's relative residual of the pair.
+    pub residual: f64,
+    #[serde(skip)]
+    pub lambda: Complex64,
+}
+
+/// The modes and their shapes, sorted by frequency.
+pub struct CeaResult<'rt> {
+    pub modes: Vec<ComplexMode>,
+    /// Real and imaginary parts of each shape, normalised so the largest component is 1 + 0i.
+    pub shapes: Vec<(Vector<'rt>, Vector<'rt>)>,
+    /// Targets used (omega^2 for undamped, lambda for damped).
+    pub targets: Vec<f64>,
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum CeaError {
+    #[error("the band must be positive, got {0} Hz")]
+    BadBand(f64),
+    #[error("no mode in the band 0-{0} Hz: raise the band")]
+    EmptyBand(f64),
+    #[error("the target stepping made no progress at omega^2 = {0:e} (SLEPc converged too few pairs; try -eps_ncv or a larger window)")]
+    Stuck(f64),
+    #[error(transparent)]
+    Petsc(#[from] PetscError),
+}
+
+/// Frequency order, with frequencies equal to 1e-9 ordered by real part (a coupled pair has
+/// one frequency: round-off must not decide which comes first).
+fn by_frequency(a: &ComplexMode, b: &ComplexMode) -> std::cmp::Ordering {
+    let scale = a.frequency_hz.abs().max(b.frequency_hz.abs());
+    if (a.frequency_hz - b.frequency_hz).abs() <= 1e-9 * scale {
+        a.real_part.total_cmp(&b.real_part)
+    } else {
+        a.frequency_hz.total_cmp(&b.frequency_hz)
+    }
+}
+
+fn mode_from_lambda(lambda: Complex64, residual: f64, threshold: f64) -> ComplexMode {
+    let magnitude = lambda.norm();
+    ComplexMode {
+        frequency_hz: lambda.im / (2.0 * PI),
+        real_part: lambda.re,
+        damping_ratio: if magnitude > 0.0 {
+            -lambda.re / magnitude
+        } else {
+            0.0
+        },
+        unstable: lambda.re > threshold * magnitude,
+        residual,
+        lambda,
+    }
+}
+
+/// lambda = i sqrt(omega^2), principal root (non-negative frequency).
+pub fn lambda_of(omega2: Complex64) -> Complex64 {
+    Complex64::new(0.0, 1.0) * omega2.sqrt()
+}
+
+/// Scales (re, im) so the component of largest modulus becomes 1 + 0i (collective).
+fn normalise(re: &mut Vector, im: &mut Vector, comm: Comm) -> Result<(), PetscError> {
+    let (r, i) = (re.read()?.to_vec(), im.read()?.to_vec());
+    let (mut best, mut at) = (-1.0, (0.0, 0.0));
+    for (a, b) in r.iter().zip(&i) {
+        let m = a * a + b * b;
+        if m > best {
+            best = m;
+            at = (*a, *b);
+        }
+    }
+    // The global largest: every rank offers its own; ties broken by the largest modulus.
+    let mut all = [best, at.0, at.1];
+    let mut global = [best];
+    comm.max_in_place(&mut global);
+    if best < global[0] {
+        all = [0.0, 0.0, 0.0];
+    }
+    let mut sums = [all[1], all[2], if best >= global[0] { 1.0 } else { 0.0 }];
+    comm.sum_in_place(&mut sums);
+    // Several ranks may hold an equal maximum: average them (same value up to sign/phase
+    // only in pathological cases; the phase is what matters and they agree).
+    let z = Complex64::new(sums[0], sums[1]) / sums[2].max(1.0);
+    if z.norm() == 0.0 {
+        return Ok(());
+    }
+    let s = z.inv();
+    let mut wr = re.write()?;
+    let mut wi = im.write()?;
+    for (a, b) in wr.iter_mut().zip(wi.iter_mut()) {
+        let v = Complex64::new(*a, *b) * s;
+        *a = v.re;
+        *b = v.im;
+    }
+    Ok(())
+}
+
+/// The undamped CEA: every omega^2 whose frequency lies in [0, max_frequency_hz], each once.
+/// Collective.
+pub fn undamped<'rt>(
+    comm: Comm<'rt>,
+    stiffness: &Matrix<'rt>,
+    mass: &Matrix<'rt>,
+    options: &CeaOptions,
+) -> Result<CeaResult<'rt>, CeaError> {
+    if options.max_frequency_hz <= 0.0 || !options.max_frequency_hz.is_finite() {
+        return Err(CeaError::BadBand(options.max_frequency_hz));
+    }
+    let top = (2.0 * PI * options.max_frequency_hz).powi(2);
+    let (template, _) = stiffness.vectors()?;
+    // Accepted pairs: (omega^2, residual, shape re, shape im).
+    let mut accepted: Vec<(Complex64, f64, Vector<'rt>, Vector<'rt>)> = Vec::new();
+    let mut targets = Vec::new();
+    // Windows of shift-and-invert: around each target the `count` nearest eigenvalues are all
+    // the eigenvalues of the disk reaching the farthest of them (radius r). Window k keeps
+    // the eigenvalues with real part in [lower_k, target_k + r_k / 2): each eigenvalue
+    // belongs to one window, so none is found twice and multiple eigenvalues keep their
+    // multiplicity. The next window's disk must reach a quarter radius below that edge, so
+    // the strip |Im omega^2| < 0.8 r around the real axis, where brake modes lie, has no
+    // gap; a target whose disk comes out too small is moved back, or asked for more pairs.
+    let size = template.global_size()?;
+    let window = options.modes_per_target.max(4).min(size);
+    let mut count = window;
+    let mut target = 0.0;
+    let mut lower = f64::NEG_INFINITY;
+    let mut retries = 0;
+    loop {
+        let eps_options = EigenOptions {
+            problem: EigenProblem::NonHermitianGeneralized,
+            spectrum: Spectrum::NearTarget { target, count },
+            tolerance: options.tolerance,
+            linear: options.linear.clone(),
+            ..Default::default()
+        };
+        let mut eps = EigenSolver::new(comm, stiffness, Some(mass), &eps_options)?;
+        let summary = match eps.solve() {
+            Ok(s) => s,
+            // A target that falls on an eigenvalue makes K - sigma M singular: nudge it.
+            Err(err) if retries < 3 => {
+                tracing::debug!("CEA target {target:e} failed ({err}); nudging it");
+                retries += 1;
+                target += 1e-7 * top.max(target.abs());
+                continue;
+            }
+            Err(err) => return Err(err.into()),
+        };
+        let mut found = Vec::with_capacity(summary.converged);
+        for i in 0..summary.converged {
+            found.push((i, eps.value(i)?));
+        }
+        let radius = found
+            .iter()
+            .map(|f| (f.1 - target).norm())
+            .fold(0.0, f64::max);
+        let everything = summary.converged >= size;
+        if lower.is_finite() && target - radius > lower - 0.25 * radius && !everything {
+            retries += 1;
+            if retries > 40 {
+                return Err(CeaError::Stuck(target));
+            }
+            if target - lower < 0.1 * radius && count < size {
+                count = (2 * count).min(size);
+            } else {
+                target = 0.5 * (lower + target);
+            }
+            continue;
+        }
+        retries = 0;
+        targets.push(target);
+        let upper = target + 0.5 * radius;
+        let last = upper >= top || everything;
+        tracing::debug!(
+            "CEA target {target:.4e}: {} pairs within {radius:.3e}",
+            summary.converged
+        );
+        for &(i, value) in &found {
+            let inside = value.re >= lower && (last || value.re < upper);
+            if !inside || lambda_of(value).im / (2.0 * PI) > options.max_frequency_hz {
+                continue;
+            }
+            let (_, mut re, mut im) = eps.pair(i, &template)?;
+            normalise(&mut re, &mut im, comm)?;
+            accepted.push((value, eps.relative_error(i)?, re, im));
+        }
+        if last {
+            break;
+        }
+        if radius <= 0.0 {
+            return Err(CeaError::Stuck(target));
+        }
+        lower = upper;
+        // Not exactly at the farthest eigenvalue found, which lies at target + radius when
+        // it is real.
+        target += 0.97 * radius;
+        count = window;
+    }
+    if accepted.is_empty() {
+        return Err(CeaError::EmptyBand(options.max_frequency_hz));
+    }
+    let mut items: Vec<(ComplexMode, Vector, Vector)> = accepted
+        .into_iter()
+        .map(|(w2, res, re, im)| {
+            (
+                mode_from_lambda(lambda_of(w2), res, options.unstable_threshold),
+                re,
+                im,
+            )
+        })
+        .collect();
+    items.sort_by(|a, b| by_frequency(&a.0, &b.0));
+    let mut modes = Vec::with_capacity(items.len());
+    let mut shapes = Vec::with_capacity(items.len());
+    for (m, re, im) in items {
+        modes.push(m);
+        shapes.push((re, im));
+    }
+    Ok(CeaResult {
+        modes,
+        shapes,
+        targets,
+    })
+}
+
+/// The damped CEA (lambda^2 M + lambda C + K_t) phi = 0: the eigenvalues nearest lambda = 0,
+/// as many as `expected_modes` conjugate pairs plus margin, keeping those with frequency in
+/// [0, max]. `expected_modes` is best taken from the undamped analysis of the same band.
+/// Complete when the largest |lambda| found exceeds 2 pi f_max (light damping: |lambda| >=
+/// its frequency), reported otherwise. Collective.
+pub fn damped<'rt>(
+    comm: Comm<'rt>,
+    stiffness: &Matrix<'rt>,
+    damping: &Matrix<'rt>,
+    mass: &Matrix<'rt>,
+    expected_modes: usize,
+    options: &CeaOptions,
+) -> Result<CeaResult<'rt>, CeaError> {
+    if options.max_frequency_hz <= 0.0 || !options.max_frequency_hz.is_finite() {
+        return Err(CeaError::BadBand(options.max_frequency_hz));
+    }
+    let (template, _) = stiffness.vectors()?;
+    let omega_max = 2.0 * PI * options.max_frequency_hz;
+    let mut count = 2 * expected_modes + 8;
+    loop {
+        let pep_options = QuadraticOptions {
+            target: 0.0,
+            count,
+            tolerance: options.tolerance,
+            linear: options.linear.clone(),
+            ..Default::default()
+        };
+        let mut pep = QuadraticEigenSolver::new(comm, stiffness, damping, mass, &pep_options)?;
+        let converged = pep.solve()?;
+        let mut values = Vec::with_capacity(converged);
+        for i in 0..converged {
+            let (value, re, im) = pep.pair(i, &template)?;
+            values.push((i, value, re, im));
+        }
+        let reach = values.iter().map(|v| v.1.norm()).fold(0.0, f64::max);
+        if reach < omega_max && count < 8 * expected_modes + 64 && converged >= count {
+            count *= 2;
+            continue;
+        }
+        if reach < omega_max {
+            tracing::warn!(
+                "damped CEA: eigenvalues found up to |lambda| = {reach:.4e} only, below 2 pi f_max = {omega_max:.4e}: the top of the band may be incomplete"
+            );
+        }
+        let mut items = Vec::new();
+        for (i, value, mut re, mut im) in values {
+            // One of each conjugate pair: non-negative frequency.
+            if value.im < 0.0 || value.im / (2.0 * PI) > options.max_frequency_hz {
+                continue;
+            }
+            normalise(&mut re, &mut im, comm)?;
+            let m = mode_from_lambda(value, pep.relative_error(i)?, options.unstable_threshold);
+            items.push((m, re, im));
+        }
+        if items.is_empty() {
+            return Err(CeaError::EmptyBand(options.max_frequency_hz));
+        }
+        items.sort_by(|a, b| by_frequency(&a.0, &b.0));
+        let mut modes = Vec::new();
+        let mut shapes = Vec::new();
+        for (m, re, im) in items {
+            modes.push(m);
+            shapes.push((re, im));
+        }
+        return Ok(CeaResult {
+            modes,
+            shapes,
+            targets: vec![0.0],
+        });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lambda_of_a_coupled_pair_has_opposite_real_parts_at_one_frequency() {
+        let (x, y) = (4.0, 1.5);
+        let l1 = lambda_of(Complex64::new(x, y));
+        let l2 = lambda_of(Complex64::new(x, -y));
+        assert!((l1.im - l2.im).abs() < 1e-15);
+        assert!((l1.re + l2.re).abs() < 1e-15);
+        // lambda^2 = -omega^2.
+        assert!((l1 * l1 + Complex64::new(x, y)).norm() < 1e-14);
+        let m = mode_from_lambda(l2, 0.0, 1e-6);
+        assert!(m.unstable && m.real_part > 0.0 && m.damping_ratio < 0.0);
+        // A real omega^2 is a neutral mode.
+        let n = mode_from_lambda(lambda_of(Complex64::new(x, 0.0)), 0.0, 1e-6);
+        assert!(
+            !n.unstable && n.real_part == 0.0 && (n.frequency_hz - 2.0 / (2.0 * PI)).abs() < 1e-15
+        );
+    }
+}

@@ -1,0 +1,536 @@
+//! The penalty contact law with steady-sliding Coulomb friction at one contact point, its
+//! Jacobian, and a pair's summary (METHOD.md section 2).
+//!
+//! With `c_k` the signed weights of a point's nodes (`+w_s` on the slave side, `-N_j` on the
+//! master side), `n` and `t` fixed (small sliding):
+//!
+//! ```text
+//!   g = g0 + n . sum_k c_k u_k                    gap, negative = penetration
+//!   p = k A max(0, -g)   (separation allowed)     normal force, >= 0
+//!   p = k A (-g)         (bilateral)              may be negative (pull)
+//!   F = p n + mu p t                              contact force on the slave point
+//!   f_k = c_k F                                   nodal contact forces (they sum to 0)
+//!   r_k = -f_k                                    residual, internal-force convention
+//!   dr_k/du_m = k A c_k c_m (n + mu t) n^T        where the point is closed
+//! ```
+//!
+//! The residual follows the internal-force convention of `K u + F_c(u) - F_ext = 0`: a
+//! penetrating slave node gets `r = -p n`, pushing it back out through the equation. The
+//! friction block `mu k A c_k c_m t n^T` is what makes the tangent unsymmetric.
+//!
+//! A point with separation allowed is closed when `g <= 0`: touching counts as closed, so
+//! that surfaces that start exactly in contact (`g0 = 0`, the usual case) have their contact
+//! stiffness at the first Newton iteration. Bilateral points are always closed. With
+//! friction, a bilateral point under tension (`p < 0`) gets `mu p t`, against `t`: the law of
+//! METHOD.md as written.
+
+use super::pair::{ContactPair, ContactPoint};
+use super::{add, dot, scale, ContactError};
+
+/// The state of one contact point for a displacement field.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PointState {
+    /// Gap `g`; negative = penetration.
+    pub gap: f64,
+    /// Normal force on the slave `p` (`>= 0` with separation; bilateral: `k A (-g)`, which
+    /// may be negative).
+    pub normal_force: f64,
+    /// Contact pressure `p / A`.
+    pub pressure: f64,
+    /// Whether the force law is active: `g <= 0` with separation, always when bilateral.
+    pub closed: bool,
+}
+
+/// A closed point's contribution to the global residual and Jacobian.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PointContribution {
+    /// The point's nodes: slave nodes then master nodes, in the point's order. A node may
+    /// appear twice (self-contact): contributions are to be added.
+    pub nodes: Vec<usize>,
+    /// 3 per node (node-major): minus the contact force on each node (internal-force
+    /// convention, see the module doc).
+    pub residual: Vec<f64>,
+    /// `(3 n) x (3 n)` row-major: `d residual / d u` of those nodes. Unsymmetric with
+    /// friction.
+    pub jacobian: Vec<f64>,
+}
+
+fn displacement(pair: &ContactPair, u: &[[f64; 3]], node: usize) -> Result<[f64; 3], ContactError> {
+    u.get(node)
+        .copied()
+        .ok_or_else(|| ContactError::NodeOutOfRange {
+            pair: pair.settings.name.clone(),
+            node,
+            nodes: u.len(),
+        })
+}
+
+/// The signed weights `c_k` of a point: `+w` for slave nodes, `-N_j` for master nodes.
+fn signed_weights(point: &ContactPoint) -> impl Iterator<Item = (usize, f64)> + '_ {
+    point
+        .slave
+        .iter()
+        .copied()
+        .chain(point.master.iter().map(|&(n, w)| (n, -w)))
+}
+
+/// Gap, normal force and pressure at `point` for nodal displacements `u` (indexed by node).
+/// `Err` if the point refers to a node `u` does not have.
+pub fn point_state(
+    pair: &ContactPair,
+    point: &ContactPoint,
+    u: &[[f64; 3]],
+) -> Result<PointState, ContactError> {
+    let mut relative = [0.0; 3];
+    for (node, c) in signed_weights(point) {
+        relative = add(relative, scale(c, displacement(pair, u, node)?));
+    }
+    let gap = point.initial_gap + dot(point.normal, relative);
+    let closed = !pair.settings.separation || gap <= 0.0;
+    let stiffness = pair.penalty * point.area;
+    let normal_force = if closed { -stiffness * gap } else { 0.0 };
+    Ok(PointState {
+        gap,
+        normal_force,
+        pressure: normal_force / point.area,
+        closed,
+    })
+}
+
+/// The contact force on the slave point, `p n + mu p t`, for a state.
+fn slave_force(pair: &ContactPair, point: &ContactPoint, state: &PointState) -> [f64; 3] {
+    let mut f = scale(state.normal_force, point.normal);
+    if let Some(t) = point.tangent {
+        f = add(f, scale(pair.settings.friction * state.normal_force, t));
+    }
+    f
+}
+
+/// The state of `point` and, when closed, its contribution to the residual and Jacobian (see
+/// the module doc). `Err` if the point refers to a node `u` does not have.
+pub fn evaluate(
+    pair: &ContactPair,
+    point: &ContactPoint,
+    u: &[[f64; 3]],
+) -> Result<(PointState, Option<PointContribution>), ContactError> {
+    let state = point_state(pair, point, u)?;
+    if !state.closed {
+        return Ok((state, None));
+    }
+    let weights: Vec<(usize, f64)> = signed_weights(point).collect();
+    let force = slave_force(pair, point, &state);
+    // Direction of the force's change with the approach: (n + mu t), times n^T.
+    let mut direction = point.normal;
+    if let Some(t) = point.tangent {
+        direction = add(direction, scale(pair.settings.friction, t));
+    }
+    let n = point.normal;
+    let stiffness = pair.penalty * point.area;
+    let size = 3 * weights.len();
+    let mut residual = vec![0.0; size];
+    let mut jacobian = vec![0.0; size * size];
+    for (k, &(_, ck)) in weights.iter().enumerate() {
+        for i in 0..3 {
+            residual[3 * k + i] = -ck * force[i];
+        }
+        for (m, &(_, cm)) in weights.iter().enumerate() {
+            // Products grouped so that the frictionless blocks are symmetric bit for bit.
+            let s = stiffness * (ck * cm);
+            for i in 0..3 {
+                for j in 0..3 {
+                    jacobian[(3 * k + i) * size + 3 * m + j] = s * (direction[i] * n[j]);
+                }
+            }
+        }
+    }
+    Ok((
+        state,
+        Some(PointContribution {
+            nodes: weights.iter().map(|&(node, _)| node).collect(),
+            residual,
+            jacobian,
+        }),
+    ))
+}
+
+/// Pressure statistics over the closed points of a pair.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PressureRange {
+    pub min: f64,
+    pub max: f64,
+    /// Arithmetic mean over the closed points (the area-weighted mean is
+    /// `normal_force / closed_area`).
+    pub mean: f64,
+}
+
+/// A pair's state for a displacement field.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PairSummary {
+    pub points: usize,
+    pub closed: usize,
+    /// Sum of the normal forces `p` on the slave points.
+    pub normal_force: f64,
+    /// Sum of the friction forces `mu p t` on the slave points.
+    pub friction_force: [f64; 3],
+    /// Sum of the contact forces `p n + mu p t` on the slave points (the master side gets the
+    /// opposite).
+    pub force_on_slave: [f64; 3],
+    /// Sum of the tributary areas of the closed points.
+    pub closed_area: f64,
+    /// `None` when no point is closed.
+    pub pressure: Option<PressureRange>,
+}
+
+/// Totals and pressure range of `pair` for nodal displacements `u`.
+pub fn summarize(pair: &ContactPair, u: &[[f64; 3]]) -> Result<PairSummary, ContactError> {
+    let mut summary = PairSummary {
+        points: pair.points.len(),
+        closed: 0,
+        normal_force: 0.0,
+        friction_force: [0.0; 3],
+        force_on_slave: [0.0; 3],
+        closed_area: 0.0,
+        pressure: None,
+    };
+    let mut range = PressureRange {
+        min: f64::INFINITY,
+        max: f64::NEG_INFINITY,
+        mean: 0.0,
+    };
+    for point in &pair.points {
+        let state = point_state(pair, point, u)?;
+        if !state.closed {
+            continue;
+        }
+        summary.closed += 1;
+        summary.closed_area += point.area;
+        summary.normal_force += state.normal_force;
+        let force = slave_force(pair, point, &state);
+        summary.force_on_slave = add(summary.force_on_slave, force);
+        if let Some(t) = point.tangent {
+            let friction = scale(pair.settings.friction * state.normal_force, t);
+            summary.friction_force = add(summary.friction_force, friction);
+        }
+        range.min = range.min.min(state.pressure);
+        range.max = range.max.max(state.pressure);
+        range.mean += state.pressure;
+    }
+    if summary.closed > 0 {
+        range.mean /= summary.closed as f64;
+        summary.pressure = Some(range);
+    }
+    Ok(summary)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::contact::pair::{node_to_node, node_to_surface, PairSettings, SlidingDirection};
+    use crate::contact::project::SearchOptions;
+    use crate::contact::test_models::pad_on_disc;
+    use crate::contact::{cross, norm, sub};
+    use crate::mesh::Mesh;
+
+    struct Lcg(u64);
+    impl Lcg {
+        /// Uniform in [-1, 1).
+        fn next(&mut self) -> f64 {
+            self.0 = self
+                .0
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            2.0 * ((self.0 >> 11) as f64 / (1u64 << 53) as f64) - 1.0
+        }
+    }
+
+    fn pair(
+        mesh: &Mesh,
+        friction: f64,
+        separation: bool,
+        sliding: SlidingDirection,
+    ) -> ContactPair {
+        node_to_surface(
+            mesh,
+            &mesh.surfaces["pad.z0"],
+            &mesh.surfaces["z1"],
+            PairSettings {
+                name: "disc/pad".into(),
+                friction,
+                penalty: Some(1e11),
+                separation,
+                sliding,
+            },
+            &SearchOptions::default(),
+        )
+        .unwrap()
+    }
+
+    fn rotation() -> SlidingDirection {
+        SlidingDirection::DiscRotation {
+            centre: [0.45, 0.5, 0.0],
+            axis: [0.0, 0.0, 1.0],
+            sense: 1.0,
+        }
+    }
+
+    /// Random displacements of size `amplitude`, plus `shift` on the pad's nodes (all nodes
+    /// past the disc's).
+    fn displacements(mesh: &Mesh, seed: u64, amplitude: f64, shift: [f64; 3]) -> Vec<[f64; 3]> {
+        let mut rng = Lcg(seed);
+        let pad_start = mesh.node_sets["pad.z0"][0];
+        (0..mesh.nodes.len())
+            .map(|n| {
+                let r = [rng.next(), rng.next(), rng.next()].map(|c| amplitude * c);
+                if n >= pad_start {
+                    add(r, shift)
+                } else {
+                    r
+                }
+            })
+            .collect()
+    }
+
+    /// Checks every closed point's Jacobian against central differences of its residual.
+    ///
+    /// With `n` and `t` fixed the residual is linear in `u` on each side of the kink `g = 0`,
+    /// so central differences have no truncation error at all; only round-off remains,
+    /// about `eps |r| / h` relative to the entries `k A`. With `|g| ~ 1e-3` and `h = 1e-7`
+    /// that is ~1e-12, far below the 1e-6 asked for, while the step moves `g` by at most
+    /// `2 h` (the weights are <= 1 in size), which does not cross the kink when `|g| > 2h`:
+    /// points nearer the kink are skipped (and counted, to see that few are).
+    /// Returns the number of closed points checked.
+    fn check_jacobian(pair: &ContactPair, u: &[[f64; 3]]) -> usize {
+        let h = 1e-7;
+        let mut checked = 0;
+        for point in &pair.points {
+            let (state, contribution) = evaluate(pair, point, u).unwrap();
+            let Some(c) = contribution else {
+                assert!(!state.closed && state.normal_force == 0.0);
+                continue;
+            };
+            if state.gap.abs() <= 2.0 * h && pair.settings.separation {
+                continue;
+            }
+            checked += 1;
+            let size = 3 * c.nodes.len();
+            let scale_j = c.jacobian.iter().fold(0.0f64, |a, b| a.max(b.abs()));
+            for (m, &node) in c.nodes.iter().enumerate() {
+                for j in 0..3 {
+                    let mut up = u.to_vec();
+                    let mut um = u.to_vec();
+                    up[node][j] += h;
+                    um[node][j] -= h;
+                    let rp = evaluate(pair, point, &up).unwrap().1.unwrap().residual;
+                    let rm = evaluate(pair, point, &um).unwrap().1.unwrap().residual;
+                    for row in 0..size {
+                        let fd = (rp[row] - rm[row]) / (2.0 * h);
+                        let exact = c.jacobian[row * size + 3 * m + j];
+                        assert!(
+                            (fd - exact).abs() <= 1e-6 * scale_j,
+                            "row {row}, column {}: {fd} vs {exact}",
+                            3 * m + j
+                        );
+                    }
+                }
+            }
+        }
+        checked
+    }
+
+    #[test]
+    fn jacobian_matches_finite_differences_in_every_state() {
+        // Pad 1e-3 above the disc; random displacements of 5e-4 on every node.
+        let mesh = pad_on_disc(1e-3);
+        let friction = pair(&mesh, 0.5, true, rotation());
+        // Open: pad lifted by 1e-3 more; nothing is closed and the residual is zero.
+        let u = displacements(&mesh, 1, 5e-4, [0.0, 0.0, 1e-3]);
+        assert_eq!(check_jacobian(&friction, &u), 0);
+        assert_eq!(summarize(&friction, &u).unwrap().closed, 0);
+        // Closed, sliding with friction: pad pushed 3e-3 down, every point penetrates.
+        let u = displacements(&mesh, 2, 5e-4, [0.0, 0.0, -3e-3]);
+        assert_eq!(check_jacobian(&friction, &u), friction.points.len());
+        // Partly closed: pad pushed 1e-3 down, gaps -1e-3 +- 1e-3.
+        let u = displacements(&mesh, 3, 5e-4, [0.0, 0.0, -1e-3]);
+        let closed = check_jacobian(&friction, &u);
+        assert!(closed > 0 && closed < friction.points.len(), "{closed}");
+        // Bilateral, in tension and in compression: every point contributes.
+        let tied = pair(&mesh, 0.15, false, SlidingDirection::Fixed([1.0, 1.0, 0.0]));
+        for shift in [2e-3, -3e-3] {
+            let u = displacements(&mesh, 4, 5e-4, [0.0, 0.0, shift]);
+            assert_eq!(check_jacobian(&tied, &u), tied.points.len());
+        }
+    }
+
+    #[test]
+    fn friction_makes_the_jacobian_unsymmetric_and_frictionless_is_symmetric() {
+        let mesh = pad_on_disc(0.0);
+        let u = displacements(&mesh, 5, 1e-4, [0.0, 0.0, -1e-3]);
+        for (mu, sliding) in [
+            (0.0, rotation()),
+            (0.5, SlidingDirection::None),
+            (0.5, rotation()),
+        ] {
+            let p = pair(&mesh, mu, true, sliding.clone());
+            let mut asymmetry = 0.0f64;
+            let mut largest = 0.0f64;
+            for point in &p.points {
+                let c = evaluate(&p, point, &u).unwrap().1.unwrap();
+                let size = 3 * c.nodes.len();
+                for i in 0..size {
+                    for j in 0..size {
+                        let (a, b) = (c.jacobian[i * size + j], c.jacobian[j * size + i]);
+                        asymmetry = asymmetry.max((a - b).abs());
+                        largest = largest.max(a.abs());
+                    }
+                }
+            }
+            if mu > 0.0 && sliding != SlidingDirection::None {
+                // mu k A c_k c_m (t n^T - n t^T): entries of mu times the normal ones.
+                assert!(asymmetry > 0.1 * mu * largest, "{asymmetry} vs {largest}");
+            } else {
+                // Without friction the blocks are k A c_k c_m n n^T: symmetric bit for bit.
+                assert_eq!(asymmetry, 0.0);
+            }
+        }
+    }
+
+    #[test]
+    fn action_equals_reaction_and_moments_balance() {
+        // Forces f_k = c_k F with sum c_k = 1 - sum N_j = 0 up to round-off, so the nodal
+        // forces of each point sum to ~eps |F|. Moments about the origin: sum c_k x_k x F =
+        // (x_s - x_m) x F = g0 n x F, zero when g0 = 0 (the pad starts on the disc).
+        let mesh = pad_on_disc(0.0);
+        let p = pair(&mesh, 0.5, true, rotation());
+        let u = displacements(&mesh, 6, 1e-4, [0.0, 0.0, -1e-3]);
+        let mut total = [0.0; 3];
+        let mut moment = [0.0; 3];
+        let mut scale_f = 0.0f64;
+        for point in &p.points {
+            let c = evaluate(&p, point, &u).unwrap().1.unwrap();
+            let mut point_total = [0.0; 3];
+            for (k, &node) in c.nodes.iter().enumerate() {
+                let f = [0, 1, 2].map(|i| -c.residual[3 * k + i]);
+                point_total = add(point_total, f);
+                moment = add(moment, cross(mesh.nodes[node], f));
+                scale_f = scale_f.max(norm(f));
+            }
+            assert!(norm(point_total) <= 1e-14 * scale_f, "{point_total:?}");
+            total = add(total, point_total);
+        }
+        assert!(norm(total) <= 1e-13 * scale_f, "{total:?}");
+        assert!(norm(moment) <= 1e-13 * scale_f, "{moment:?}");
+    }
+
+    #[test]
+    fn uniform_penetration_gives_k_a_delta_and_friction_mu_n() {
+        // Pad pressed by delta everywhere: g = -delta at every slave node, p = k A_s delta,
+        // total N = k delta sum A_s = k delta 0.15 (the tributary areas tile the pad's
+        // 0.5 x 0.3 bottom exactly). With a fixed sliding direction x, the friction is mu N x.
+        let mesh = pad_on_disc(0.0);
+        let delta = 2e-4;
+        let u: Vec<[f64; 3]> = (0..mesh.nodes.len())
+            .map(|n| {
+                if n >= mesh.node_sets["pad.z0"][0] {
+                    [0.0, 0.0, -delta]
+                } else {
+                    [0.0; 3]
+                }
+            })
+            .collect();
+        let p = pair(&mesh, 0.4, true, SlidingDirection::Fixed([2.0, 0.0, 0.0]));
+        let s = summarize(&p, &u).unwrap();
+        let n_expected = 1e11 * 0.15 * delta;
+        assert_eq!(s.closed, p.points.len());
+        assert!((s.normal_force / n_expected - 1.0).abs() < 1e-13);
+        assert!((s.closed_area - 0.15).abs() < 1e-15);
+        assert!(norm(sub(s.friction_force, [0.4 * n_expected, 0.0, 0.0])) < 1e-13 * n_expected);
+        assert!(
+            norm(sub(s.force_on_slave, [0.4 * n_expected, 0.0, n_expected])) < 1e-13 * n_expected
+        );
+        let range = s.pressure.unwrap();
+        for v in [range.min, range.max, range.mean] {
+            assert!((v / (1e11 * delta) - 1.0).abs() < 1e-13);
+        }
+        // Turning disc: friction of size mu N, each point's along its own tangent (the sum
+        // of the vectors is shorter), tangents horizontal and orthogonal to the radius.
+        let p = pair(&mesh, 0.4, true, rotation());
+        let s = summarize(&p, &u).unwrap();
+        assert!((s.normal_force / n_expected - 1.0).abs() < 1e-13);
+        assert!(s.friction_force[2].abs() < 1e-13 * n_expected);
+        let mut sum_of_sizes = 0.0;
+        for point in &p.points {
+            let state = point_state(&p, point, &u).unwrap();
+            let t = point.tangent.unwrap();
+            assert!(t[2].abs() < 1e-15);
+            assert!(dot(t, sub(point.position, [0.45, 0.5, 0.0])).abs() < 1e-15);
+            sum_of_sizes += 0.4 * state.normal_force;
+        }
+        assert!((sum_of_sizes / (0.4 * n_expected) - 1.0).abs() < 1e-13);
+        // Lifted instead: open everywhere, no force.
+        let lifted: Vec<[f64; 3]> = u.iter().map(|v| scale(-1.0, *v)).collect();
+        let s = summarize(&p, &lifted).unwrap();
+        assert_eq!((s.closed, s.normal_force, s.pressure), (0, 0.0, None));
+    }
+
+    #[test]
+    fn node_to_node_points_with_several_slave_nodes() {
+        // A slave point spread over three nodes (a distributing coupling) against a master
+        // point on two: the same law, checked against finite differences (same reasoning as
+        // check_jacobian) and for action = reaction.
+        let settings = PairSettings {
+            name: "reduced".into(),
+            friction: 0.3,
+            penalty: None,
+            separation: true,
+            sliding: SlidingDirection::Fixed([0.0, 1.0, 0.0]),
+        };
+        let n = [0.6, 0.0, 0.8];
+        let t = [0.0, 1.0, 0.0];
+        let point = crate::contact::pair::ContactPoint {
+            slave: vec![(0, 0.5), (1, 0.3), (2, 0.2)],
+            master: vec![(3, 0.7), (4, 0.3)],
+            normal: n,
+            initial_gap: 1e-3,
+            area: 0.02,
+            tangent: Some(t),
+            position: [0.0; 3],
+            slave_node: 0,
+            master_face: None,
+        };
+        let p = node_to_node(settings, 5e10, vec![point]).unwrap();
+        let mut rng = Lcg(9);
+        let mut u: Vec<[f64; 3]> = (0..5)
+            .map(|_| [0.0; 3].map(|_| 1e-4 * rng.next()))
+            .collect();
+        // Push the slave nodes 2e-3 along -n: g = 1e-3 - 2e-3 + O(1e-4) < 0.
+        for v in u.iter_mut().take(3) {
+            *v = add(*v, scale(-2e-3, n));
+        }
+        assert_eq!(check_jacobian(&p, &u), 1);
+        let (state, c) = evaluate(&p, &p.points[0], &u).unwrap();
+        let c = c.unwrap();
+        assert_eq!(c.nodes, vec![0, 1, 2, 3, 4]);
+        let force: [f64; 3] = std::array::from_fn(|i| (0..5).map(|k| c.residual[3 * k + i]).sum());
+        assert!(norm(force) < 1e-15 * state.normal_force);
+        // Slave side carries p (n + mu t) in its weights' proportions.
+        let expect = add(
+            scale(state.normal_force, n),
+            scale(0.3 * state.normal_force, t),
+        );
+        for (k, w) in [0.5, 0.3, 0.2].iter().enumerate() {
+            for (i, e) in expect.iter().enumerate() {
+                assert!((-c.residual[3 * k + i] - w * e).abs() < 1e-12 * state.normal_force);
+            }
+        }
+        // A displacement field too short is an error naming the pair and the node.
+        let err = evaluate(&p, &p.points[0], &u[..4]).unwrap_err();
+        assert_eq!(
+            err,
+            ContactError::NodeOutOfRange {
+                pair: "reduced".into(),
+                node: 4,
+                nodes: 4
+            }
+        );
+    }
+}

@@ -1,0 +1,223 @@
+//! Complex eigenvalue analysis against closed forms, on 1 and 2 ranks.
+
+mod common;
+
+use common::harness::Check;
+use num_complex::Complex64;
+use squeal::analysis::cea::{self, CeaOptions};
+use squeal::analysis::operators::matrix_from_entries;
+use squeal::petsc::Runtime;
+use std::f64::consts::PI;
+
+const CHECKS: &[Check] = &[
+    Check {
+        name: "two_dof_mode_coupling_closed_form",
+        run: two_dof_coupling,
+        ranks: &[1, 2],
+        agreement: 1e-10,
+    },
+    Check {
+        name: "stepped_targets_find_every_mode_once",
+        run: stepped_targets,
+        ranks: &[1, 2],
+        agreement: 1e-10,
+    },
+    Check {
+        name: "damping_moves_the_threshold_as_the_closed_form_says",
+        run: damped_threshold,
+        ranks: &[1, 2],
+        agreement: 1e-10,
+    },
+];
+
+fn main() {
+    common::harness::main(CHECKS);
+}
+
+fn e<E: std::fmt::Display>(err: E) -> String {
+    err.to_string()
+}
+
+/// M = I, K = [[2, 1 - D], [1, 2]]: omega^2 = 2 +/- sqrt(1 - D). Below D = 1 two real modes;
+/// at D = 1 they coalesce; above, lambda = +/- sqrt(-2 +/- i sqrt(D - 1)), one pair growing.
+fn two_dof_coupling(rt: &Runtime) -> Result<Vec<f64>, String> {
+    let comm = rt.world();
+    let mut out = Vec::new();
+    for d in [0.5, 0.99, 1.01, 1.5, 3.0] {
+        let k = matrix_from_entries(
+            comm,
+            2,
+            &[(0, 0, 2.0), (0, 1, 1.0 - d), (1, 0, 1.0), (1, 1, 2.0)],
+        )
+        .map_err(e)?;
+        let m = matrix_from_entries(comm, 2, &[(0, 0, 1.0), (1, 1, 1.0)]).map_err(e)?;
+        let options = CeaOptions {
+            max_frequency_hz: 1.0,
+            tolerance: 1e-13,
+            ..Default::default()
+        };
+        let result = cea::undamped(comm, &k, &m, &options).map_err(e)?;
+        let disc = Complex64::new(1.0 - d, 0.0).sqrt();
+        let exact: Vec<Complex64> = [2.0 + disc, 2.0 - disc]
+            .iter()
+            .map(|&w2| cea::lambda_of(w2))
+            .collect();
+        if result.modes.len() != 2 {
+            return Err(format!("D = {d}: {} modes", result.modes.len()));
+        }
+        for m in &result.modes {
+            let found = exact
+                .iter()
+                .any(|x| (x - m.lambda).norm() < 1e-10 * x.norm());
+            if !found {
+                return Err(format!("D = {d}: lambda {} not in {exact:?}", m.lambda));
+            }
+            // lambda^2 = -2 -/+ i sqrt(D - 1) for D > 1 (the form).
+            let unstable = d > 1.0 && m.real_part > 0.0;
+            if m.unstable != unstable {
+                return Err(format!("D = {d}: {m:?} flagged wrongly"));
+            }
+            out.extend([m.lambda.re, m.lambda.im]);
+        }
+        let n_unstable = result.modes.iter().filter(|m| m.unstable).count();
+        if n_unstable != usize::from(d > 1.0) {
+            return Err(format!("D = {d}: {n_unstable} unstable modes"));
+        }
+    }
+    Ok(out)
+}
+
+/// 80 uncoupled 2x2 blocks [[k, c], [-c, k]] (M = I): omega^2 = k +/- i c, with k spread over
+/// two decades and some blocks real (c = 0, a double eigenvalue). Every eigenvalue below the
+/// band's top must be found exactly once through the stepped targets.
+fn stepped_targets(rt: &Runtime) -> Result<Vec<f64>, String> {
+    let comm = rt.world();
+    let blocks = 80;
+    let kk = |b: usize| (2.0 * PI * (50.0 + 12.5 * b as f64)).powi(2);
+    let cc = |b: usize| if b % 3 == 0 { 0.0 } else { 0.01 * kk(b) };
+    let mut entries = Vec::new();
+    for b in 0..blocks {
+        let (i, j) = (2 * b, 2 * b + 1);
+        entries.extend([(i, i, kk(b)), (i, j, cc(b)), (j, i, -cc(b)), (j, j, kk(b))]);
+    }
+    let k = matrix_from_entries(comm, 2 * blocks, &entries).map_err(e)?;
+    let m = matrix_from_entries(
+        comm,
+        2 * blocks,
+        &(0..2 * blocks).map(|i| (i, i, 1.0)).collect::<Vec<_>>(),
+    )
+    .map_err(e)?;
+    let f_max = 700.0;
+    let options = CeaOptions {
+        max_frequency_hz: f_max,
+        modes_per_target: 12,
+        tolerance: 1e-12,
+        ..Default::default()
+    };
+    let result = cea::undamped(comm, &k, &m, &options).map_err(e)?;
+    let mut exact: Vec<Complex64> = (0..blocks)
+        .flat_map(|b| {
+            [
+                cea::lambda_of(Complex64::new(kk(b), cc(b))),
+                cea::lambda_of(Complex64::new(kk(b), -cc(b))),
+            ]
+        })
+        .filter(|l| l.im / (2.0 * PI) <= f_max)
+        .collect();
+    exact.sort_by(|a, b| a.im.total_cmp(&b.im).then(a.re.total_cmp(&b.re)));
+    if result.modes.len() != exact.len() {
+        return Err(format!(
+            "{} modes found, {} in the band ({} targets)",
+            result.modes.len(),
+            exact.len(),
+            result.targets.len()
+        ));
+    }
+    // Each exact eigenvalue matched by exactly as many found ones as its multiplicity.
+    for x in &exact {
+        let want = exact
+            .iter()
+            .filter(|y| (*y - x).norm() < 1e-9 * x.norm())
+            .count();
+        let got = result
+            .modes
+            .iter()
+            .filter(|m| (m.lambda - x).norm() < 1e-9 * x.norm())
+            .count();
+        if want != got {
+            return Err(format!("lambda {x}: found {got} times, expected {want}"));
+        }
+    }
+    if result.targets.len() < 3 {
+        return Err("the band was covered by one target: the stepping is not tested".into());
+    }
+    Ok(result
+        .modes
+        .iter()
+        .flat_map(|m| [m.lambda.re, m.lambda.im])
+        .collect())
+}
+
+/// The 2-DOF model with damping C = c I: each omega^2 gives lambda^2 + c lambda + omega^2 = 0,
+/// lambda = (-c +/- sqrt(c^2 - 4 omega^2)) / 2, and the instability starts where
+/// Re sqrt(c^2/4 - omega^2) = c/2, i.e. at D = 1 + 2 c^2 instead of 1.
+fn damped_threshold(rt: &Runtime) -> Result<Vec<f64>, String> {
+    let comm = rt.world();
+    let c = 0.1;
+    let d_critical = 1.0 + 2.0 * c * c;
+    let mut out = Vec::new();
+    for d in [d_critical - 0.005, d_critical + 0.005, 1.5] {
+        let k = matrix_from_entries(
+            comm,
+            2,
+            &[(0, 0, 2.0), (0, 1, 1.0 - d), (1, 0, 1.0), (1, 1, 2.0)],
+        )
+        .map_err(e)?;
+        let m = matrix_from_entries(comm, 2, &[(0, 0, 1.0), (1, 1, 1.0)]).map_err(e)?;
+        let cm = matrix_from_entries(comm, 2, &[(0, 0, c), (1, 1, c)]).map_err(e)?;
+        let options = CeaOptions {
+            max_frequency_hz: 1.0,
+            tolerance: 1e-13,
+            ..Default::default()
+        };
+        let result = cea::damped(comm, &k, &cm, &m, 2, &options).map_err(e)?;
+        let disc = Complex64::new(1.0 - d, 0.0).sqrt();
+        let exact: Vec<Complex64> = [2.0 + disc, 2.0 - disc]
+            .iter()
+            .map(|&w2| {
+                let s = (Complex64::new(c * c, 0.0) - 4.0 * w2).sqrt();
+                let a = (-c + s) / 2.0;
+                let b = (-c - s) / 2.0;
+                if a.im >= 0.0 {
+                    a
+                } else {
+                    b
+                }
+            })
+            .collect();
+        if result.modes.len() != 2 {
+            return Err(format!(
+                "D = {d}: {} modes: {:?}",
+                result.modes.len(),
+                result.modes
+            ));
+        }
+        for m in &result.modes {
+            if !exact
+                .iter()
+                .any(|x| (x - m.lambda).norm() < 1e-10 * x.norm())
+            {
+                return Err(format!("D = {d}: lambda {} not in {exact:?}", m.lambda));
+            }
+            out.extend([m.lambda.re, m.lambda.im]);
+        }
+        let unstable = result.modes.iter().filter(|m| m.unstable).count();
+        if unstable != usize::from(d > d_critical) {
+            return Err(format!(
+                "D = {d} (threshold {d_critical}): {unstable} unstable: {:?}",
+                result.modes
+            ));
+        }
+    }
+    Ok(out)
+}
