@@ -72,6 +72,54 @@ enum Command {
         #[arg(short, long, default_value = "bench.json")]
         output: PathBuf,
     },
+    /// Complex eigenvalue analysis of matrices exported by another program (Matrix Market,
+    /// CalculiX .sti/.mas, Abaqus *MATRIX GENERATE): every mode below --fmax, unstable ones
+    /// flagged.
+    Cea {
+        /// Stiffness matrix (tangent, with friction: may be unsymmetric).
+        #[arg(long)]
+        stiffness: PathBuf,
+        /// Mass matrix.
+        #[arg(long)]
+        mass: PathBuf,
+        /// Damping matrix (makes it a quadratic eigenproblem).
+        #[arg(long)]
+        damping: Option<PathBuf>,
+        /// Every mode from 0 up to this frequency (Hz, assuming seconds as the time unit).
+        #[arg(long, default_value_t = 10_000.0)]
+        fmax: f64,
+        /// Unstable when Re(lambda) > this * |lambda|.
+        #[arg(long, default_value_t = 1e-6)]
+        unstable_threshold: f64,
+        /// Eigenpairs asked of SLEPc per shift.
+        #[arg(long, default_value_t = 30)]
+        window: usize,
+        /// Output folder (cea.json, cea.csv).
+        #[arg(short, long, default_value = "squeal-out")]
+        output: PathBuf,
+    },
+    /// The friction sweep: sliding equilibrium and complex eigenvalue analysis for each mu,
+    /// modes tracked, instabilities found. The built-in brake study when given no file.
+    Sweep {
+        /// A study file (TOML); the built-in brake study when absent.
+        study: Option<PathBuf>,
+        /// Built-in brake preset (when no study file, or to override its preset).
+        #[arg(long)]
+        preset: Option<String>,
+        /// Friction values, e.g. 0.1,0.3,0.5 (default 0.1 to 0.9 by 0.1).
+        #[arg(long, value_delimiter = ',')]
+        friction: Option<Vec<f64>>,
+        /// Every mode from 0 up to this frequency (Hz).
+        #[arg(long)]
+        fmax: Option<f64>,
+        /// Output folder.
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+        /// Write the study (after the command-line changes) to this TOML file and stop: a
+        /// starting point for your own.
+        #[arg(long)]
+        write_study: Option<PathBuf>,
+    },
     /// Real modes (K phi = omega^2 M phi) of a mesh file or of the built-in brake.
     Modes {
         /// A .msh or .inp file; the built-in brake when absent. An .inp deck's *FREQUENCY
@@ -136,6 +184,42 @@ fn main() -> ExitCode {
             fmax,
             output,
         } => study::bench::run(&rt, &presets, repeat, fmax, &output),
+        Command::Cea {
+            stiffness,
+            mass,
+            damping,
+            fmax,
+            unstable_threshold,
+            window,
+            output,
+        } => study::cea::run(
+            &rt,
+            &study::cea::CeaArgs {
+                stiffness,
+                mass,
+                damping,
+                max_frequency_hz: fmax,
+                unstable_threshold,
+                modes_per_target: window,
+                output,
+            },
+        ),
+        Command::Sweep {
+            study,
+            preset,
+            friction,
+            fmax,
+            output,
+            write_study,
+        } => study::sweep::run_command(
+            &rt,
+            study.as_deref(),
+            preset,
+            friction,
+            fmax,
+            output,
+            write_study.as_deref(),
+        ),
         Command::Mesh {
             mesh,
             preset,

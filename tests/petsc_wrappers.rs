@@ -374,9 +374,38 @@ fn snes_known_solution(rt: &Runtime) -> Result<Vec<f64>, String> {
     Ok(all)
 }
 
-/// A residual closure that fails must surface as an Err carrying its message on every rank,
-/// not as a crash or a hang.
+/// A residual or Jacobian closure that fails must surface as an Err carrying its message on
+/// every rank, not as a crash or a hang, and the solver must then be destroyed cleanly.
 fn snes_callback_error(rt: &Runtime) -> Result<Vec<f64>, String> {
+    snes_residual_error(rt)?;
+    snes_jacobian_error(rt)
+}
+
+fn snes_jacobian_error(rt: &Runtime) -> Result<Vec<f64>, String> {
+    let comm = rt.world();
+    let n = 10;
+    let (lo, hi) = split(n, comm);
+    let jac = matrix(comm, n, |i| laplacian_1d(i, n))?;
+    let residual =
+        Box::new(|_x: &Vector, f: &mut Vector| -> Result<(), String> { f.set(1.0).map_err(e) });
+    let jacobian = Box::new(|_x: &Vector, j: &mut Matrix| -> Result<(), String> {
+        // Fail half-way through an assembly, as a real Jacobian might.
+        j.add_block(&[0], &[0], &[1.0]).map_err(e)?;
+        Err("tangent failed on purpose".into())
+    });
+    let mut snes = NonlinearSolver::new(comm, residual, jacobian, jac, &NewtonOptions::default())
+        .map_err(e)?;
+    let mut x = Vector::new(comm, hi - lo).map_err(e)?;
+    let result = match snes.solve(&mut x) {
+        Ok(r) => Err(format!("a failing Jacobian gave Ok({r:?})")),
+        Err(err) if err.to_string().contains("tangent failed on purpose") => Ok(vec![1.0]),
+        Err(err) => Err(format!("error without the callback's message: {err}")),
+    };
+    drop(snes);
+    result
+}
+
+fn snes_residual_error(rt: &Runtime) -> Result<Vec<f64>, String> {
     let comm = rt.world();
     let n = 10;
     let (lo, hi) = split(n, comm);

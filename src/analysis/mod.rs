@@ -4,4 +4,5 @@
 pub mod cea;
 pub mod modes;
 pub mod operators;
+pub mod statics;
 pub mod tracking;

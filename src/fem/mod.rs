@@ -4,6 +4,7 @@
 pub mod assemble;
 pub mod dofs;
 pub mod element;
+pub mod springs;
 pub mod tet10;
 
 pub use assemble::{AssemblyError, StructureOptions};

@@ -87,11 +87,16 @@ impl<'rt> Matrix<'rt> {
             } else {
                 pattern.row_start.clone()
             };
-            // Only the call matching the actual type (seq or mpi) takes effect.
+            // The CSR calls put the pattern in as explicit zeros: PETSc's assembly squeezes
+            // out preallocated places never written, and the Jacobian must keep every
+            // contact coupling whatever the current contact state.
             if comm.size() == 1 {
-                let nnz: std::vec::Vec<sys::PetscInt> =
-                    start.windows(2).map(|w| w[1] - w[0]).collect();
-                check(sys::MatSeqAIJSetPreallocation(raw, 0, nnz.as_ptr()))?;
+                check(sys::MatSeqAIJSetPreallocationCSR(
+                    raw,
+                    start.as_ptr(),
+                    pattern.columns.as_ptr(),
+                    std::ptr::null(),
+                ))?;
             } else {
                 check(sys::MatMPIAIJSetPreallocationCSR(
                     raw,

@@ -97,13 +97,14 @@ impl<'rt> Vector<'rt> {
         check(unsafe { sys::VecSet(self.raw, value) })
     }
 
-    /// Adds `values` at global `indices` (any rank may add to any entry); call
-    /// [`Vector::assemble`] afterwards.
+    /// Adds `values` at global `indices` (any rank may add to any entry); negative indices
+    /// are skipped (a supported DOF, as for matrices). Call [`Vector::assemble`] afterwards.
     pub fn add_values(&mut self, indices: &[sys::PetscInt], values: &[f64]) -> Result<()> {
         self.values(indices, values, sys::ADD_VALUES)
     }
 
-    /// Sets `values` at global `indices`; call [`Vector::assemble`] afterwards.
+    /// Sets `values` at global `indices` (negative ones skipped); call [`Vector::assemble`]
+    /// afterwards.
     pub fn set_values(&mut self, indices: &[sys::PetscInt], values: &[f64]) -> Result<()> {
         self.values(indices, values, sys::INSERT_VALUES)
     }
@@ -116,7 +117,21 @@ impl<'rt> Vector<'rt> {
                 val.len()
             )));
         }
-        // SAFETY: lengths checked; PETSc copies the data.
+        // Unlike MatSetValues, VecSetValues does not skip negative indices by default, and an
+        // optimised PETSc does not check them: it would write before the array.
+        let (idx, val): (std::vec::Vec<sys::PetscInt>, std::vec::Vec<f64>) = idx
+            .iter()
+            .zip(val)
+            .filter(|(&i, _)| i >= 0)
+            .map(|(&i, &v)| (i, v))
+            .unzip();
+        let global = self.global_size()?;
+        if let Some(&bad) = idx.iter().find(|&&i| i as usize >= global) {
+            return Err(PetscError::Invalid(format!(
+                "index {bad} outside a vector of {global} entries"
+            )));
+        }
+        // SAFETY: lengths equal, indices in range; PETSc copies the data.
         check(unsafe {
             sys::VecSetValues(
                 self.raw,

@@ -1,8 +1,13 @@
 //! What a user asks for: one function per subcommand, called by `main.rs`.
 
 pub mod bench;
+pub mod cea;
+pub mod config;
 pub mod info;
+pub mod matrix_file;
 pub mod model;
 pub mod modes;
+pub mod plot;
 pub mod report;
+pub mod sweep;
 pub mod write_mesh;

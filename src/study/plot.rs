@@ -1064,7 +1064,7 @@ fn draw_panel(
             .filter(|(v, _)| f.y.contains(**v))
             .map(|(v, l)| (f.py(*v), l))
             .collect();
-    out.push_str("<g stroke=\"#e3e3e3\" stroke-width=\"1\">\n");
+    out.push_str("<g stroke=\"#e3e3e3\" stroke-width=\"1\" shape-rendering=\"crispEdges\">\n");
     for (x, _) in &x_ticks {
         put!(
             out,
@@ -1083,7 +1083,9 @@ fn draw_panel(
             y = num(*y)
         );
     }
-    out.push_str("</g>\n<g stroke=\"#4d4d4d\" stroke-width=\"1\">\n");
+    out.push_str(
+        "</g>\n<g stroke=\"#4d4d4d\" stroke-width=\"1\" shape-rendering=\"crispEdges\">\n",
+    );
     for (x, _) in &x_ticks {
         put!(
             out,
@@ -1178,7 +1180,7 @@ fn draw_panel(
     // Frame on top of the data, so markers on the edge do not hide it.
     put!(
         out,
-        "<rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" fill=\"none\" stroke=\"#4d4d4d\" stroke-width=\"1\"/>\n",
+        "<rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" fill=\"none\" stroke=\"#4d4d4d\" stroke-width=\"1\" shape-rendering=\"crispEdges\"/>\n",
         num(f.left),
         num(f.top),
         num(f.width),
@@ -1270,39 +1272,56 @@ fn draw_marker(
 }
 
 /// The part of the segment a-b (pixels) inside the plot area (Liang-Barsky), the ends
-/// returned unchanged where they are inside.
+/// returned unchanged where they are inside. The cut points are computed from the end
+/// nearer the plot area, so a point 1e300 away does not swamp the one in view by
+/// cancellation; when both ends are that far, the cut is only good to their round-off and
+/// is kept on the frame.
 fn clip_segment(a: (f64, f64), b: (f64, f64), f: &Frame) -> Option<((f64, f64), (f64, f64))> {
-    let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+    let (x0, x1, y0, y1) = (f.left, f.left + f.width, f.top, f.top + f.height);
+    let outside = |p: (f64, f64)| [p.0 < x0, p.0 > x1, p.1 < y0, p.1 > y1];
+    let (oa, ob) = (outside(a), outside(b));
+    if (0..4).any(|k| oa[k] && ob[k]) {
+        return None; // both beyond the same edge
+    }
+    let (cx, cy) = (0.5 * (x0 + x1), 0.5 * (y0 + y1));
+    let distance = |p: (f64, f64)| (p.0 - cx).abs().max((p.1 - cy).abs());
+    let a_is_near = distance(a) <= distance(b);
+    let (near, far) = if a_is_near { (a, b) } else { (b, a) };
+    let (dx, dy) = (far.0 - near.0, far.1 - near.1);
     let (mut t0, mut t1) = (0.0f64, 1.0f64);
-    // Each edge as p t <= q: left, right, top, bottom.
-    let edges = [
-        (-dx, a.0 - f.left),
-        (dx, f.left + f.width - a.0),
-        (-dy, a.1 - f.top),
-        (dy, f.top + f.height - a.1),
-    ];
-    for (p, q) in edges {
+    // Each edge as p t <= q along near + t (far - near): left, right, top, bottom.
+    for (p, q) in [
+        (-dx, near.0 - x0),
+        (dx, x1 - near.0),
+        (-dy, near.1 - y0),
+        (dy, y1 - near.1),
+    ] {
         if p == 0.0 {
             if q < 0.0 {
                 return None;
             }
+        } else if p < 0.0 {
+            t0 = t0.max(q / p);
         } else {
-            let t = q / p;
-            if p < 0.0 {
-                t0 = t0.max(t);
-            } else {
-                t1 = t1.min(t);
-            }
+            t1 = t1.min(q / p);
         }
     }
     if t0 > t1 {
         return None;
     }
-    let at = |t: f64| (a.0 + t * dx, a.1 + t * dy);
-    Some((
-        if t0 > 0.0 { at(t0) } else { a },
-        if t1 < 1.0 { at(t1) } else { b },
-    ))
+    let on_frame = |t: f64| {
+        (
+            (near.0 + t * dx).clamp(x0, x1),
+            (near.1 + t * dy).clamp(y0, y1),
+        )
+    };
+    let start = if t0 > 0.0 { on_frame(t0) } else { near };
+    let end = if t1 < 1.0 { on_frame(t1) } else { far };
+    Some(if a_is_near {
+        (start, end)
+    } else {
+        (end, start)
+    })
 }
 
 /// Draws one series; returns whether it had a point in view.

@@ -1,0 +1,146 @@
+//! `squeal cea`: complex eigenvalue analysis of assembled matrices exported by another
+//! program (Matrix Market, CalculiX MATRIXSTORAGE, Abaqus *MATRIX GENERATE), and the CEA
+//! report shared with the brake study.
+
+use super::matrix_file;
+use super::report::{collective, write_atomically};
+use crate::analysis::cea::{self, CeaOptions, ComplexMode};
+use crate::analysis::operators::matrix_from_entries;
+use crate::petsc::Runtime;
+use anyhow::Context;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+#[derive(Clone, Debug)]
+pub struct CeaArgs {
+    pub stiffness: PathBuf,
+    pub mass: PathBuf,
+    pub damping: Option<PathBuf>,
+    pub max_frequency_hz: f64,
+    pub unstable_threshold: f64,
+    pub modes_per_target: usize,
+    pub output: PathBuf,
+}
+
+/// The `cea.json` document: one entry per lambda with non-negative frequency.
+#[derive(serde::Serialize)]
+pub struct CeaDocument<'a, M: serde::Serialize> {
+    pub eigenvalues: &'a [ComplexMode],
+    pub unstable: usize,
+    pub max_frequency_hz: f64,
+    pub model: M,
+}
+
+/// The table printed on screen.
+pub fn table(modes: &[ComplexMode]) -> String {
+    let mut s =
+        String::from("  mode   frequency (Hz)   real part (1/s)   damping ratio   residual\n");
+    for (i, m) in modes.iter().enumerate() {
+        s.push_str(&format!(
+            "  {:>4}   {:>14.4}   {:>15.6e}   {:>13.3e}   {:>8.1e}{}\n",
+            i + 1,
+            m.frequency_hz,
+            m.real_part,
+            m.damping_ratio,
+            m.residual,
+            if m.unstable { "   UNSTABLE" } else { "" }
+        ));
+    }
+    s
+}
+
+/// Writes cea.json and cea.csv into `dir` (whole or not at all).
+pub fn write_report<M: serde::Serialize>(
+    dir: &Path,
+    modes: &[ComplexMode],
+    max_frequency_hz: f64,
+    model: M,
+) -> anyhow::Result<()> {
+    std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    let doc = CeaDocument {
+        eigenvalues: modes,
+        unstable: modes.iter().filter(|m| m.unstable).count(),
+        max_frequency_hz,
+        model,
+    };
+    write_atomically(&dir.join("cea.json"), &serde_json::to_vec_pretty(&doc)?)?;
+    let mut csv = String::from("frequency_hz,real_part,damping_ratio,unstable,residual\n");
+    for m in modes {
+        csv.push_str(&format!(
+            "{:.10e},{:.10e},{:.6e},{},{:.3e}\n",
+            m.frequency_hz, m.real_part, m.damping_ratio, m.unstable, m.residual
+        ));
+    }
+    write_atomically(&dir.join("cea.csv"), csv.as_bytes())?;
+    Ok(())
+}
+
+#[derive(serde::Serialize)]
+struct MatrixModel {
+    stiffness: String,
+    mass: String,
+    damping: Option<String>,
+    format: String,
+    equations: usize,
+    ranks: usize,
+}
+
+/// Runs `squeal cea` on matrix files (collective); rank 0 prints and writes.
+pub fn run(rt: &Runtime, args: &CeaArgs) -> anyhow::Result<()> {
+    let comm = rt.world();
+    let root = comm.rank() == 0;
+    let started = Instant::now();
+    let set = collective(
+        comm,
+        matrix_file::read_pair(&args.stiffness, &args.mass, args.damping.as_deref()),
+    )?;
+    let n = set.stiffness.rows;
+    if root {
+        tracing::info!(
+            "{} matrices ({}), {n} equations, {} + {} nonzeros",
+            set.format,
+            args.stiffness.display(),
+            set.stiffness.entries.len(),
+            set.mass.entries.len()
+        );
+    }
+    let k = matrix_from_entries(comm, n, &set.stiffness.entries)?;
+    let m = matrix_from_entries(comm, n, &set.mass.entries)?;
+    let options = CeaOptions {
+        max_frequency_hz: args.max_frequency_hz,
+        unstable_threshold: args.unstable_threshold,
+        modes_per_target: args.modes_per_target,
+        ..Default::default()
+    };
+    let undamped = collective(comm, cea::undamped(comm, &k, &m, &options))?;
+    let modes = match &set.damping {
+        None => undamped.modes,
+        Some(c) => {
+            let c = matrix_from_entries(comm, n, &c.entries)?;
+            let expected = undamped.modes.len();
+            drop(undamped);
+            collective(comm, cea::damped(comm, &k, &c, &m, expected, &options))?.modes
+        }
+    };
+    if root {
+        print!("{}", table(&modes));
+        let model = MatrixModel {
+            stiffness: args.stiffness.display().to_string(),
+            mass: args.mass.display().to_string(),
+            damping: args.damping.as_ref().map(|p| p.display().to_string()),
+            format: set.format.to_string(),
+            equations: n,
+            ranks: comm.size(),
+        };
+        write_report(&args.output, &modes, args.max_frequency_hz, model)?;
+        println!(
+            "{} modes below {} Hz, {} unstable, in {:.1} s; results in {}",
+            modes.len(),
+            args.max_frequency_hz,
+            modes.iter().filter(|m| m.unstable).count(),
+            started.elapsed().as_secs_f64(),
+            args.output.display()
+        );
+    }
+    Ok(())
+}

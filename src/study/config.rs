@@ -1,0 +1,421 @@
+//! The study file (TOML): everything a user changes for a squeal study — mesh, materials,
+//! supports, springs, loads, contact pairs, band, friction sweep, output — validated up
+//! front with errors that name the file and the key.
+
+use crate::analysis::cea::RayleighDamping;
+use crate::contact::SlidingDirection;
+use crate::mesh::brake::BrakeParams;
+use std::path::{Path, PathBuf};
+
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Study {
+    #[serde(default)]
+    pub mesh: MeshSpec,
+    /// Materials per part (override or complete those of the mesh).
+    #[serde(default)]
+    pub materials: Vec<MaterialSpec>,
+    #[serde(default)]
+    pub supports: Vec<SupportSpec>,
+    #[serde(default)]
+    pub springs: Vec<SpringSpec>,
+    #[serde(default)]
+    pub pressures: Vec<PressureSpec>,
+    #[serde(default)]
+    pub contacts: Vec<ContactSpec>,
+    #[serde(default)]
+    pub analysis: AnalysisSpec,
+    /// Output folder.
+    #[serde(default = "default_output")]
+    pub output: PathBuf,
+}
+
+fn default_output() -> PathBuf {
+    PathBuf::from("squeal-out")
+}
+
+/// Where the mesh comes from: a file, or the built-in brake (a preset, optionally with
+/// changed parameters).
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MeshSpec {
+    /// A .msh or .inp file, relative to the study file.
+    pub file: Option<PathBuf>,
+    /// Built-in brake preset (tiny, small, medium, industrial); default small.
+    pub preset: Option<String>,
+    /// Built-in brake parameters (replace the preset's).
+    pub brake: Option<BrakeParams>,
+}
+
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialSpec {
+    pub part: String,
+    pub young: f64,
+    pub poisson: f64,
+    pub density: f64,
+}
+
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SupportSpec {
+    /// Node set (or surface) name.
+    pub set: String,
+    /// Held components, e.g. "xyz" or "z".
+    #[serde(default = "all_components")]
+    pub components: String,
+}
+
+fn all_components() -> String {
+    "xyz".into()
+}
+
+/// Direction of a spring to ground.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SpringDirection {
+    /// A fixed vector.
+    Vector([f64; 3]),
+    /// Radial from the disc axis (z through the origin) at each node.
+    Radial,
+    /// Circumferential about the disc axis at each node (the normal of a radial plane such
+    /// as a pad abutment).
+    Circumferential,
+}
+
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SpringSpec {
+    pub set: String,
+    pub direction: SpringDirection,
+    /// Total stiffness of the set (N/m), shared equally by its nodes.
+    pub stiffness: f64,
+}
+
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PressureSpec {
+    pub surface: String,
+    /// Pa (positive pushes into the body).
+    pub value: f64,
+}
+
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactSpec {
+    pub name: String,
+    /// Slave surface (the pad).
+    pub slave: String,
+    /// Master surface (the disc).
+    pub master: String,
+    pub friction: f64,
+    /// Penalty per unit area; default 10 E_min / h.
+    pub penalty: Option<f64>,
+    #[serde(default = "yes")]
+    pub separation: bool,
+    /// Friction direction: disc rotation, fixed, or none.
+    #[serde(default = "no_sliding")]
+    pub sliding: SlidingDirection,
+    /// Whether the friction sweep sets this pair's mu.
+    #[serde(default)]
+    pub sweep: bool,
+}
+
+fn yes() -> bool {
+    true
+}
+
+fn no_sliding() -> SlidingDirection {
+    SlidingDirection::None
+}
+
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AnalysisSpec {
+    /// Modes from 0 to this frequency (Hz).
+    #[serde(default = "default_fmax")]
+    pub max_frequency_hz: f64,
+    /// Friction coefficients of the sweep (applied to the pairs with `sweep = true`).
+    #[serde(default = "default_friction")]
+    pub friction: Vec<f64>,
+    /// Rayleigh damping C = alpha M + beta K (none: undamped CEA).
+    pub damping: Option<RayleighDamping>,
+    /// Load increments of the static solve.
+    #[serde(default = "one")]
+    pub increments: usize,
+    /// Unstable when Re(lambda) > this * |lambda|.
+    #[serde(default = "default_threshold")]
+    pub unstable_threshold: f64,
+    /// Eigenpairs asked of SLEPc per shift.
+    #[serde(default = "default_window")]
+    pub window: usize,
+    /// Consistent mass rule: "exact" or "gauss4".
+    #[serde(default)]
+    pub mass_rule: crate::fem::element::MassRule,
+}
+
+impl Default for AnalysisSpec {
+    fn default() -> Self {
+        AnalysisSpec {
+            max_frequency_hz: default_fmax(),
+            friction: default_friction(),
+            damping: None,
+            increments: 1,
+            unstable_threshold: default_threshold(),
+            window: default_window(),
+            mass_rule: Default::default(),
+        }
+    }
+}
+
+fn default_fmax() -> f64 {
+    10_000.0
+}
+fn default_friction() -> Vec<f64> {
+    (1..=9).map(|k| k as f64 / 10.0).collect()
+}
+fn one() -> usize {
+    1
+}
+fn default_threshold() -> f64 {
+    1e-6
+}
+fn default_window() -> usize {
+    30
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum ConfigError {
+    #[error("{file}: {source}")]
+    Io {
+        file: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    #[error("{file}: {message}")]
+    Syntax { file: PathBuf, message: String },
+    #[error("{file}: {key}: {message}")]
+    Invalid {
+        file: PathBuf,
+        key: String,
+        message: String,
+    },
+}
+
+impl Study {
+    /// The built-in brake study: the paper's Table 1 contact set adapted to the built-in
+    /// brake. Disc/pad pairs with separation and friction along the disc's rotation (the
+    /// sweep); the piston and caliper, not modelled as bodies, become the brake pressure on
+    /// the backplates; the bracket becomes stiff springs on the trailing abutments (normal
+    /// to them) and the guides radial springs, so each pad is held against every rigid
+    /// motion the disc contact does not hold.
+    pub fn builtin(preset: &str) -> Study {
+        let rotation = SlidingDirection::DiscRotation {
+            centre: [0.0; 3],
+            axis: [0.0, 0.0, 1.0],
+            sense: 1.0,
+        };
+        let disc_pad = |side: &str| ContactSpec {
+            name: format!("disc/pad {side}"),
+            slave: format!("pad_{side}_friction_face"),
+            master: format!("disc_{side}_face"),
+            friction: 0.5,
+            penalty: None,
+            separation: true,
+            sliding: rotation.clone(),
+            sweep: true,
+        };
+        let mut springs = Vec::new();
+        for side in ["inboard", "outboard"] {
+            springs.push(SpringSpec {
+                set: format!("pad_{side}_abutment_trailing"),
+                direction: SpringDirection::Circumferential,
+                stiffness: 1e9,
+            });
+            springs.push(SpringSpec {
+                set: format!("pad_{side}_guides"),
+                direction: SpringDirection::Radial,
+                stiffness: 1e8,
+            });
+        }
+        Study {
+            mesh: MeshSpec {
+                file: None,
+                preset: Some(preset.to_string()),
+                brake: None,
+            },
+            materials: vec![],
+            supports: vec![SupportSpec {
+                set: "disc_hub".into(),
+                components: "xyz".into(),
+            }],
+            springs,
+            // About 5 kN per pad on the built-in backplates (a 2 MPa line pressure on a
+            // 2,500 mm^2 piston).
+            pressures: vec![
+                PressureSpec {
+                    surface: "backplate_inboard_piston".into(),
+                    value: 2e6,
+                },
+                PressureSpec {
+                    surface: "backplate_outboard_caliper".into(),
+                    value: 2e6,
+                },
+            ],
+            contacts: vec![disc_pad("inboard"), disc_pad("outboard")],
+            analysis: AnalysisSpec::default(),
+            output: default_output(),
+        }
+    }
+
+    /// Reads and checks a study file; relative paths are made relative to its folder.
+    pub fn read(path: &Path) -> Result<Study, ConfigError> {
+        let text = std::fs::read_to_string(path).map_err(|source| ConfigError::Io {
+            file: path.to_path_buf(),
+            source,
+        })?;
+        let mut study: Study = toml::from_str(&text).map_err(|e| ConfigError::Syntax {
+            file: path.to_path_buf(),
+            message: e.to_string(),
+        })?;
+        let base = path.parent().unwrap_or(Path::new("."));
+        if let Some(f) = &study.mesh.file {
+            if f.is_relative() {
+                study.mesh.file = Some(base.join(f));
+            }
+        }
+        study.check(path)?;
+        Ok(study)
+    }
+
+    /// Checks values that serde cannot (ranges, consistency).
+    pub fn check(&self, file: &Path) -> Result<(), ConfigError> {
+        let bad = |key: String, message: String| ConfigError::Invalid {
+            file: file.to_path_buf(),
+            key,
+            message,
+        };
+        if self.mesh.file.is_some() && (self.mesh.preset.is_some() || self.mesh.brake.is_some()) {
+            return Err(bad(
+                "mesh".into(),
+                "give either file or the built-in brake (preset/brake), not both".into(),
+            ));
+        }
+        let a = &self.analysis;
+        if !(a.max_frequency_hz > 0.0 && a.max_frequency_hz.is_finite()) {
+            return Err(bad(
+                "analysis.max_frequency_hz".into(),
+                format!("must be positive, got {}", a.max_frequency_hz),
+            ));
+        }
+        if a.friction.is_empty() {
+            return Err(bad("analysis.friction".into(), "no friction values".into()));
+        }
+        for (i, &mu) in a.friction.iter().enumerate() {
+            if !(mu >= 0.0 && mu.is_finite()) {
+                return Err(bad(
+                    format!("analysis.friction[{i}]"),
+                    format!("friction must be >= 0, got {mu}"),
+                ));
+            }
+        }
+        if a.increments == 0 {
+            return Err(bad(
+                "analysis.increments".into(),
+                "must be at least 1".into(),
+            ));
+        }
+        for (i, c) in self.contacts.iter().enumerate() {
+            if !(c.friction >= 0.0 && c.friction.is_finite()) {
+                return Err(bad(
+                    format!("contacts[{i}].friction"),
+                    format!("friction must be >= 0, got {}", c.friction),
+                ));
+            }
+            if let Some(k) = c.penalty {
+                if !(k > 0.0 && k.is_finite()) {
+                    return Err(bad(
+                        format!("contacts[{i}].penalty"),
+                        format!("must be positive, got {k}"),
+                    ));
+                }
+            }
+        }
+        for (i, s) in self.springs.iter().enumerate() {
+            if !(s.stiffness > 0.0 && s.stiffness.is_finite()) {
+                return Err(bad(
+                    format!("springs[{i}].stiffness"),
+                    format!("must be positive, got {}", s.stiffness),
+                ));
+            }
+        }
+        for (i, s) in self.supports.iter().enumerate() {
+            if s.components.is_empty() || !s.components.chars().all(|c| "xyzXYZ".contains(c)) {
+                return Err(bad(
+                    format!("supports[{i}].components"),
+                    format!("'{}' is not made of x, y, z", s.components),
+                ));
+            }
+        }
+        for (i, m) in self.materials.iter().enumerate() {
+            if !(m.young > 0.0 && m.poisson > -1.0 && m.poisson < 0.5 && m.density > 0.0) {
+                return Err(bad(
+                    format!("materials[{i}]"),
+                    "need young > 0, -1 < poisson < 0.5, density > 0".into(),
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn write(name: &str, text: &str) -> PathBuf {
+        let dir = std::env::temp_dir().join(format!("squeal-config-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let p = dir.join(name);
+        std::fs::write(&p, text).unwrap();
+        p
+    }
+
+    #[test]
+    fn the_builtin_study_round_trips_through_toml() {
+        let s = Study::builtin("tiny");
+        let text = toml::to_string(&s).unwrap();
+        let back: Study = toml::from_str(&text).unwrap();
+        assert_eq!(s, back);
+        s.check(Path::new("builtin")).unwrap();
+    }
+
+    #[test]
+    fn errors_name_the_file_and_the_key() {
+        let p = write("bad_mu.toml", "[analysis]\nfriction = [0.1, -0.2]\n");
+        let e = Study::read(&p).unwrap_err().to_string();
+        assert!(
+            e.contains("bad_mu.toml") && e.contains("analysis.friction[1]"),
+            "{e}"
+        );
+        let p = write("typo.toml", "[analysis]\nmax_frequency = 5000\n");
+        let e = Study::read(&p).unwrap_err().to_string();
+        assert!(
+            e.contains("typo.toml") && e.contains("max_frequency"),
+            "{e}"
+        );
+        let p = write(
+            "contact.toml",
+            "[[contacts]]\nname = \"a\"\nslave = \"s\"\nmaster = \"m\"\nfriction = -1\n",
+        );
+        let e = Study::read(&p).unwrap_err().to_string();
+        assert!(e.contains("contacts[0].friction"), "{e}");
+    }
+
+    #[test]
+    fn mesh_file_is_relative_to_the_study() {
+        let p = write("rel.toml", "[mesh]\nfile = \"brake.msh\"\n");
+        let s = Study::read(&p).unwrap();
+        assert_eq!(s.mesh.file.unwrap(), p.parent().unwrap().join("brake.msh"));
+    }
+}
