@@ -189,9 +189,13 @@ pub struct PairReport {
     pub points: usize,
     pub closed: usize,
     pub normal_force: f64,
+    /// Magnitude of the resultant friction force on the slave.
     pub friction_force: f64,
-    /// |friction| / (mu N): 1 for a pair that slides everywhere it touches.
-    pub friction_ratio: f64,
+    /// Friction moment about the disc axis (z through the origin): the braking torque.
+    pub braking_torque: f64,
+    /// braking_torque / (mu N): where the friction acts on average, between the pad's
+    /// inner and outer radius when the pad slides everywhere it touches.
+    pub effective_radius: f64,
     pub pressure_min: f64,
     pub pressure_max: f64,
     pub pressure_mean: f64,
@@ -410,8 +414,20 @@ pub fn run(rt: &Runtime, study: &Study, file: &str) -> anyhow::Result<()> {
         .with_context(|| format!("static equilibrium at mu = {mu}"))?;
         let mut contact_reports = Vec::new();
         let mut normal_total = 0.0;
-        for pair in &model.pairs {
+        for (pair, states) in model.pairs.iter().zip(&equilibrium.contact) {
             let s = contact::summarize(pair, &equilibrium.displacement)?;
+            let mu = pair.settings.friction;
+            let torque: f64 = pair
+                .points
+                .iter()
+                .zip(states)
+                .filter_map(|(pt, st)| {
+                    pt.tangent.map(|t| {
+                        let x = pt.position;
+                        mu * st.normal_force * (x[0] * t[1] - x[1] * t[0])
+                    })
+                })
+                .sum();
             let friction = s.friction_force.iter().map(|c| c * c).sum::<f64>().sqrt();
             normal_total += s.normal_force;
             let (pmin, pmax, pmean) = s
@@ -423,8 +439,9 @@ pub fn run(rt: &Runtime, study: &Study, file: &str) -> anyhow::Result<()> {
                 closed: s.closed,
                 normal_force: s.normal_force,
                 friction_force: friction,
-                friction_ratio: if pair.settings.friction > 0.0 && s.normal_force > 0.0 {
-                    friction / (pair.settings.friction * s.normal_force)
+                braking_torque: torque,
+                effective_radius: if mu > 0.0 && s.normal_force > 0.0 {
+                    torque / (mu * s.normal_force)
                 } else {
                     0.0
                 },

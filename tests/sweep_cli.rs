@@ -1,0 +1,214 @@
+//! `squeal cea` on matrix files and `squeal sweep` on the built-in brake, run as a user runs
+//! them (under mpirun), with closed-form checks and bad input.
+
+mod common;
+
+use num_complex::Complex64;
+use std::path::{Path, PathBuf};
+
+fn squeal() -> &'static Path {
+    Path::new(env!("CARGO_BIN_EXE_squeal"))
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("squeal-sweep-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn write_mtx(path: &Path, entries: &[(usize, usize, f64)]) {
+    let mut s = format!(
+        "%%MatrixMarket matrix coordinate real general\n2 2 {}\n",
+        entries.len()
+    );
+    for (i, j, v) in entries {
+        s.push_str(&format!("{} {} {v:e}\n", i + 1, j + 1));
+    }
+    std::fs::write(path, s).unwrap();
+}
+
+fn eigenvalues(dir: &Path) -> Vec<(f64, f64, bool)> {
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.join("cea.json")).unwrap()).unwrap();
+    json["eigenvalues"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|m| {
+            (
+                m["frequency_hz"].as_f64().unwrap(),
+                m["real_part"].as_f64().unwrap(),
+                m["unstable"].as_bool().unwrap(),
+            )
+        })
+        .collect()
+}
+
+/// The mode-coupling model as Matrix Market files: M = I, K = [[2, 1 - D], [1, 2]].
+/// For D > 1, lambda = +/- sqrt(-2 +/- i sqrt(D - 1)): the pair with non-negative frequency
+/// must come out to 1e-10, one of them unstable.
+#[test]
+fn cea_on_matrix_market_files_matches_the_closed_form() {
+    let dir = scratch("mtx");
+    for d in [0.5, 1.5, 4.0] {
+        write_mtx(
+            &dir.join("K.mtx"),
+            &[(0, 0, 2.0), (0, 1, 1.0 - d), (1, 0, 1.0), (1, 1, 2.0)],
+        );
+        write_mtx(&dir.join("M.mtx"), &[(0, 0, 1.0), (1, 1, 1.0)]);
+        let out = dir.join(format!("out{d}"));
+        let run = common::mpirun(
+            2,
+            squeal(),
+            &[
+                "cea",
+                "--stiffness",
+                dir.join("K.mtx").to_str().unwrap(),
+                "--mass",
+                dir.join("M.mtx").to_str().unwrap(),
+                "--fmax",
+                "1",
+                "-o",
+                out.to_str().unwrap(),
+            ],
+        );
+        assert!(run.status.success(), "{}", common::text(&run));
+        let found = eigenvalues(&out);
+        assert_eq!(found.len(), 2, "{found:?}");
+        let disc = Complex64::new(1.0 - d, 0.0).sqrt();
+        for w2 in [2.0 + disc, 2.0 - disc] {
+            // lambda^2 = -omega^2, the root with non-negative imaginary part.
+            let mut lambda = (-w2).sqrt();
+            if lambda.im < 0.0 {
+                lambda = -lambda;
+            }
+            let f = lambda.im / (2.0 * std::f64::consts::PI);
+            let hit = found.iter().any(|&(ff, a, _)| {
+                (Complex64::new(a, 2.0 * std::f64::consts::PI * ff) - lambda).norm()
+                    < 1e-10 * lambda.norm()
+            });
+            assert!(hit, "D = {d}: lambda {lambda} ({f} Hz) not in {found:?}");
+        }
+        let unstable = found.iter().filter(|m| m.2).count();
+        assert_eq!(unstable, usize::from(d > 1.0), "D = {d}: {found:?}");
+    }
+}
+
+#[test]
+fn sweep_of_the_builtin_brake_writes_a_complete_study() {
+    let dir = scratch("sweep");
+    let run = common::mpirun(
+        2,
+        squeal(),
+        &[
+            "sweep",
+            "--preset",
+            "tiny",
+            "--friction",
+            "0.2,0.6",
+            "--fmax",
+            "6000",
+            "-o",
+            dir.to_str().unwrap(),
+        ],
+    );
+    assert!(run.status.success(), "{}", common::text(&run));
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert!(stdout.contains("instabilities"), "{stdout}");
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.join("sweep.json")).unwrap()).unwrap();
+    let points = json["points"].as_array().unwrap();
+    assert_eq!(points.len(), 2);
+    for p in points {
+        // The pads carry the whole brake load (the springs act in the disc plane only).
+        let balance = p["balance_ratio"].as_f64().unwrap();
+        assert!((balance - 1.0).abs() < 1e-8, "balance {balance}");
+        for pair in p["contact"].as_array().unwrap() {
+            // Every closed point slides along the disc's motion, perpendicular to the
+            // radius: the braking torque is mu N times a radius within the pad's.
+            let r = pair["effective_radius"].as_f64().unwrap();
+            assert!((0.09..=0.135).contains(&r), "{pair}");
+        }
+        assert!(!p["eigenvalues"].as_array().unwrap().is_empty());
+    }
+    assert!(json["tracks"].as_array().is_some());
+    assert!(json["instabilities"].as_array().is_some());
+    for f in [
+        "stability_map.svg",
+        "friction_sweep.svg",
+        "mu_0.200/cea.json",
+        "mu_0.600/cea.vtu",
+    ] {
+        assert!(dir.join(f).is_file(), "{f} missing");
+    }
+}
+
+fn failure(args: &[&str]) -> String {
+    let run = common::mpirun(2, squeal(), args);
+    assert!(!common::hung(&run), "{}", common::text(&run));
+    assert!(!run.status.success(), "{}", common::text(&run));
+    let stderr = String::from_utf8_lossy(&run.stderr).to_string();
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    stderr
+}
+
+#[test]
+fn bad_studies_name_the_file_and_the_key_and_write_nothing() {
+    let dir = scratch("bad");
+    let out = dir.join("out");
+    let study = dir.join("study.toml");
+    let builtin = dir.join("builtin.toml");
+    let run = common::mpirun(
+        1,
+        squeal(),
+        &[
+            "sweep",
+            "--preset",
+            "tiny",
+            "--write-study",
+            builtin.to_str().unwrap(),
+        ],
+    );
+    assert!(run.status.success(), "{}", common::text(&run));
+    let text = std::fs::read_to_string(&builtin).unwrap();
+    // A pair naming a surface that does not exist.
+    std::fs::write(
+        &study,
+        text.replace("pad_inboard_friction_face", "pad_left_face"),
+    )
+    .unwrap();
+    let e = failure(&[
+        "sweep",
+        study.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(
+        e.contains("study.toml") && e.contains("contacts[0].slave") && e.contains("pad_left_face"),
+        "{e}"
+    );
+    // A negative friction coefficient.
+    std::fs::write(&study, text.replace("friction = 0.5", "friction = -0.5")).unwrap();
+    let e = failure(&[
+        "sweep",
+        study.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(e.contains("contacts[0].friction"), "{e}");
+    // A band with no modes.
+    let e = failure(&[
+        "sweep",
+        "--preset",
+        "tiny",
+        "--friction",
+        "0.5",
+        "--fmax",
+        "10",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(e.contains("no mode in the band"), "{e}");
+    assert!(!out.join("sweep.json").exists());
+}
