@@ -7,12 +7,13 @@ use common::harness::Check;
 use squeal::analysis::cea::{self, CeaOptions};
 use squeal::analysis::statics::{self, StaticOptions, StaticProblem};
 use squeal::contact::{self, PairSettings, SearchOptions, SlidingDirection};
+use squeal::fem::element::MassRule;
 use squeal::fem::springs::{add_ground_springs, GroundSpring};
 use squeal::fem::{assemble, DofMap, StructureOptions, Support};
 use squeal::mesh::{block::block, Material, Mesh, Surface};
 use squeal::petsc::Runtime;
 use squeal::study::config::Study;
-use squeal::study::sweep::build_model;
+use squeal::study::sweep::{assemble_model, build_model, Assembled};
 
 const CHECKS: &[Check] = &[
     Check {
@@ -215,27 +216,12 @@ fn brake_modes(rt: &Runtime, mu: f64, symmetric_check: bool) -> Result<Vec<f64>,
     let comm = rt.world();
     let study = brake_setup(mu);
     let model = build_model(&study, "test").map_err(e)?;
-    let mesh = &model.mesh;
-    let dofs = DofMap::new(
-        mesh.nodes.len(),
-        0,
-        &model.supports,
-        comm.size(),
-        comm.rank(),
-    )?;
-    let groups = statics::contact_groups(&model.pairs);
-    let pattern = assemble::pattern(
-        &dofs,
-        mesh.elements
-            .iter()
-            .map(|c| &c[..])
-            .chain(groups.iter().map(|g| &g[..])),
-    );
-    let (mut k, m) =
-        assemble::stiffness_and_mass(comm, mesh, &dofs, &pattern, StructureOptions::default())
-            .map_err(e)?;
-    add_ground_springs(&mut k, &dofs, &model.springs).map_err(e)?;
-    let load = assemble::load_vector(comm, mesh, &dofs, &model.pressures, &[]).map_err(e)?;
+    let Assembled {
+        dofs,
+        stiffness: k,
+        mass: m,
+        load,
+    } = assemble_model(comm, &model, MassRule::Exact).map_err(e)?;
     let problem = StaticProblem {
         dofs: &dofs,
         stiffness: &k,
@@ -296,26 +282,12 @@ fn unheld_pad(rt: &Runtime) -> Result<Vec<f64>, String> {
     let mut study = brake_setup(0.5);
     study.springs.clear();
     let model = build_model(&study, "test").map_err(e)?;
-    let mesh = &model.mesh;
-    let dofs = DofMap::new(
-        mesh.nodes.len(),
-        0,
-        &model.supports,
-        comm.size(),
-        comm.rank(),
-    )?;
-    let groups = statics::contact_groups(&model.pairs);
-    let pattern = assemble::pattern(
-        &dofs,
-        mesh.elements
-            .iter()
-            .map(|c| &c[..])
-            .chain(groups.iter().map(|g| &g[..])),
-    );
-    let (k, _) =
-        assemble::stiffness_and_mass(comm, mesh, &dofs, &pattern, StructureOptions::default())
-            .map_err(e)?;
-    let load = assemble::load_vector(comm, mesh, &dofs, &model.pressures, &[]).map_err(e)?;
+    let Assembled {
+        dofs,
+        stiffness: k,
+        load,
+        ..
+    } = assemble_model(comm, &model, MassRule::Exact).map_err(e)?;
     let problem = StaticProblem {
         dofs: &dofs,
         stiffness: &k,

@@ -13,7 +13,7 @@ use crate::fem::springs::{add_ground_springs, GroundSpring};
 use crate::fem::{assemble, DofMap, StructureOptions, Support};
 use crate::mesh::vtu::{Field, VtuWriter};
 use crate::mesh::{brake, Face, Mesh};
-use crate::petsc::{Runtime, Structure};
+use crate::petsc::{Comm, Matrix, Runtime, Structure, Vector};
 use anyhow::{anyhow, Context};
 use num_complex::Complex64;
 use std::path::Path;
@@ -167,6 +167,55 @@ pub fn build_model(study: &Study, file: &str) -> anyhow::Result<Model> {
     })
 }
 
+/// The operators of a model: the DOF map, K (with springs, on a pattern holding every contact
+/// coupling), M and the load vector.
+pub struct Assembled<'rt> {
+    pub dofs: DofMap,
+    pub stiffness: Matrix<'rt>,
+    pub mass: Matrix<'rt>,
+    pub load: Vector<'rt>,
+}
+
+/// Assembles a model's operators. Collective; errors are collective.
+pub fn assemble_model<'rt>(
+    comm: Comm<'rt>,
+    model: &Model,
+    mass_rule: crate::fem::element::MassRule,
+) -> anyhow::Result<Assembled<'rt>> {
+    let mesh = &model.mesh;
+    let dofs = collective(
+        comm,
+        DofMap::new(
+            mesh.nodes.len(),
+            0,
+            &model.supports,
+            comm.size(),
+            comm.rank(),
+        )
+        .map_err(anyhow::Error::msg),
+    )?;
+    let groups = statics::contact_groups(&model.pairs);
+    let pattern = assemble::pattern(
+        &dofs,
+        mesh.elements
+            .iter()
+            .map(|c| &c[..])
+            .chain(groups.iter().map(|g| &g[..])),
+    );
+    let (mut stiffness, mass) = collective(
+        comm,
+        assemble::stiffness_and_mass(comm, mesh, &dofs, &pattern, StructureOptions { mass_rule }),
+    )?;
+    add_ground_springs(&mut stiffness, &dofs, &model.springs)?;
+    let load = assemble::load_vector(comm, mesh, &dofs, &model.pressures, &[])?;
+    Ok(Assembled {
+        dofs,
+        stiffness,
+        mass,
+        load,
+    })
+}
+
 /// One friction value's results, as written to sweep.json.
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct SweepPointReport {
@@ -300,40 +349,13 @@ pub fn run(rt: &Runtime, study: &Study, file: &str) -> anyhow::Result<()> {
     let root = comm.rank() == 0;
     let started = Instant::now();
     let mut model = collective(comm, build_model(study, file))?;
+    let Assembled {
+        dofs,
+        stiffness: k,
+        mass: m,
+        load,
+    } = assemble_model(comm, &model, study.analysis.mass_rule)?;
     let mesh = &model.mesh;
-    let dofs = collective(
-        comm,
-        DofMap::new(
-            mesh.nodes.len(),
-            0,
-            &model.supports,
-            comm.size(),
-            comm.rank(),
-        )
-        .map_err(anyhow::Error::msg),
-    )?;
-    let groups = statics::contact_groups(&model.pairs);
-    let pattern = assemble::pattern(
-        &dofs,
-        mesh.elements
-            .iter()
-            .map(|c| &c[..])
-            .chain(groups.iter().map(|g| &g[..])),
-    );
-    let (mut k, m) = collective(
-        comm,
-        assemble::stiffness_and_mass(
-            comm,
-            mesh,
-            &dofs,
-            &pattern,
-            StructureOptions {
-                mass_rule: study.analysis.mass_rule,
-            },
-        ),
-    )?;
-    add_ground_springs(&mut k, &dofs, &model.springs)?;
-    let load = assemble::load_vector(comm, mesh, &dofs, &model.pressures, &[])?;
     let applied = applied_load(mesh, &model.pressures, study);
     let damping = match study.analysis.damping {
         Some(d) => {
