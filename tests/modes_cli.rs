@@ -151,6 +151,36 @@ fn mesh_file_round_trip_gives_the_same_modes_as_the_builtin_model() {
     assert_eq!(vtu.matches("Name=\"mode_").count(), builtin.len());
 }
 
+/// The CalculiX beam deck converted to Gmsh by `squeal mesh` and run with the same material
+/// and clamp given on the command line: the same frequencies as the deck itself (1e-8).
+#[test]
+fn inp_and_equivalent_msh_give_the_same_frequencies() {
+    let dir = scratch("inp-msh");
+    let msh = dir.join("beam.msh");
+    let run = common::mpirun(
+        1,
+        squeal(),
+        &["mesh", &data("beam_c3d10.inp"), "-o", msh.to_str().unwrap()],
+    );
+    assert!(run.status.success(), "{}", common::text(&run));
+    let from_inp = modes(2, &[&data("beam_c3d10.inp")], &dir.join("inp"));
+    let from_msh = modes(
+        2,
+        &[
+            msh.to_str().unwrap(),
+            "--nev",
+            "10",
+            "--fix",
+            "FIX",
+            "--material",
+            "EBEAM=210e9,0.3,7850",
+        ],
+        &dir.join("msh"),
+    );
+    assert_eq!(from_inp.len(), from_msh.len());
+    assert_close(&from_msh, &from_inp, 1e-8, ".msh vs .inp");
+}
+
 /// The error a run printed, checking it failed cleanly: no hang, no panic, said once.
 fn failure(ranks: usize, args: &[&str]) -> String {
     let run = common::mpirun(ranks, squeal(), args);

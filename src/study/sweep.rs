@@ -229,6 +229,10 @@ pub struct SweepPointReport {
     /// carry the whole brake load).
     pub balance_ratio: f64,
     pub eigenvalues: Vec<ComplexMode>,
+    pub static_seconds: f64,
+    pub cea_seconds: f64,
+    /// Shift-and-invert targets the CEA used.
+    pub cea_shifts: usize,
     pub seconds: f64,
 }
 
@@ -418,6 +422,7 @@ pub fn run(rt: &Runtime, study: &Study, file: &str) -> anyhow::Result<()> {
                 pair.settings.friction = mu;
             }
         }
+        let t_static = Instant::now();
         let problem = StaticProblem {
             dofs: &dofs,
             stiffness: &k,
@@ -472,6 +477,8 @@ pub fn run(rt: &Runtime, study: &Study, file: &str) -> anyhow::Result<()> {
                 pressure_mean: pmean,
             });
         }
+        let static_seconds = t_static.elapsed().as_secs_f64();
+        let t_cea = Instant::now();
         let tangent = statics::tangent(&k, &dofs, &model.pairs, &equilibrium.displacement)?;
         let result = match &damping {
             None => collective(comm, cea::undamped(comm, &tangent, &m, &options))?,
@@ -480,6 +487,8 @@ pub fn run(rt: &Runtime, study: &Study, file: &str) -> anyhow::Result<()> {
                 collective(comm, cea::damped(comm, &tangent, c, &m, expected, &options))?
             }
         };
+        let cea_seconds = t_cea.elapsed().as_secs_f64();
+        let targets = result.targets.len();
         // Shapes to rank 0: restricted for tracking; full for the unstable ones' VTU.
         let mut restricted = Vec::with_capacity(result.shapes.len());
         let mut unstable_fields = Vec::new();
@@ -518,12 +527,15 @@ pub fn run(rt: &Runtime, study: &Study, file: &str) -> anyhow::Result<()> {
                 0.0
             },
             eigenvalues: result.modes.clone(),
+            static_seconds,
+            cea_seconds,
+            cea_shifts: targets,
             seconds: t.elapsed().as_secs_f64(),
         };
         if root {
             let unstable = result.modes.iter().filter(|m| m.unstable).count();
             tracing::info!(
-                "mu {mu:.2} ({}/{total}): static {} Newton iterations, balance {:.6}, {} modes, {} unstable, {:.1} s",
+                "mu {mu:.2} ({}/{total}): static {} Newton iterations ({static_seconds:.1} s), balance {:.6}; CEA {} modes, {} unstable, {targets} shifts ({cea_seconds:.1} s); {:.1} s",
                 step + 1,
                 static_iterations,
                 report.balance_ratio,
