@@ -5,6 +5,7 @@
 //! -> study. [`petsc`] is the only module with `unsafe`.
 
 pub mod analysis;
+pub mod atomic_file;
 pub mod contact;
 pub mod fem;
 pub mod mesh;

@@ -22,7 +22,6 @@
 //! shorter mesh.
 
 use std::collections::{BTreeMap, BTreeSet, HashMap, HashSet};
-use std::ffi::OsString;
 use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::Path;
@@ -1464,29 +1463,9 @@ pub(crate) fn write_atomically(
     path: &Path,
     fill: impl FnOnce(&mut BufWriter<File>) -> std::io::Result<()>,
 ) -> Result<(), MeshError> {
-    let io_error = |source| MeshError::Io {
+    crate::atomic_file::write_with(path, fill).map_err(|source| MeshError::Io {
         file: path.to_path_buf(),
         source,
-    };
-    let name = path
-        .file_name()
-        .ok_or_else(|| MeshError::invalid(path, "expected a file name to write to"))?;
-    let mut temp_name = OsString::from(".");
-    temp_name.push(name);
-    temp_name.push(format!(".{}.tmp", std::process::id()));
-    let temp = path.with_file_name(temp_name);
-    let result = (|| {
-        let mut out = BufWriter::new(File::create(&temp)?);
-        fill(&mut out)?;
-        let file = out.into_inner().map_err(|e| e.into_error())?;
-        file.sync_all()?;
-        drop(file);
-        std::fs::rename(&temp, path)
-    })();
-    result.map_err(|e| {
-        // Best effort: the temporary file may not even exist.
-        let _ = std::fs::remove_file(&temp);
-        io_error(e)
     })
 }
 

@@ -1196,26 +1196,7 @@ fn write_atomically(
     path: &Path,
     fill: impl FnOnce(&mut BufWriter<File>) -> std::io::Result<()>,
 ) -> Result<(), MatrixFileError> {
-    let name = path
-        .file_name()
-        .ok_or_else(|| MatrixFileError::invalid(path, "expected a file name to write to"))?;
-    let mut temp_name = std::ffi::OsString::from(".");
-    temp_name.push(name);
-    temp_name.push(format!(".{}.tmp", std::process::id()));
-    let temp = path.with_file_name(temp_name);
-    let result = (|| {
-        let mut out = BufWriter::new(File::create(&temp)?);
-        fill(&mut out)?;
-        let file = out.into_inner().map_err(|e| e.into_error())?;
-        file.sync_all()?;
-        drop(file);
-        std::fs::rename(&temp, path)
-    })();
-    result.map_err(|e| {
-        // Best effort: the temporary file may not even exist.
-        let _ = std::fs::remove_file(&temp);
-        MatrixFileError::io(path, e)
-    })
+    crate::atomic_file::write_with(path, fill).map_err(|e| MatrixFileError::io(path, e))
 }
 
 #[cfg(test)]

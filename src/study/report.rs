@@ -1,30 +1,13 @@
 //! Writing results: whole or not at all (a temporary file renamed into place), by rank 0.
 
-use std::io::Write;
 use std::path::Path;
 
-/// Writes `contents` to `path` through a temporary file in the same folder, so a reader
-/// never sees half a file and a failure leaves the old one (or none).
+/// Writes `contents` to `path` whole or not at all, creating its folder.
 pub fn write_atomically(path: &Path, contents: &[u8]) -> std::io::Result<()> {
-    let dir = path.parent().filter(|d| !d.as_os_str().is_empty());
-    if let Some(dir) = dir {
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir)?;
     }
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let tmp = path.with_file_name(format!(".{name}.tmp{}", std::process::id()));
-    let result = (|| {
-        let mut f = std::fs::File::create(&tmp)?;
-        f.write_all(contents)?;
-        f.sync_all()?;
-        std::fs::rename(&tmp, path)
-    })();
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    result
+    crate::atomic_file::write(path, contents)
 }
 
 /// An error every rank has (same input, same check): rank 0 reports it once and every rank
