@@ -229,7 +229,7 @@ fn brake_modes(rt: &Runtime, mu: f64, symmetric_check: bool) -> Result<Vec<f64>,
         pairs: &model.pairs,
     };
     let solution = statics::solve(comm, &problem, None, &StaticOptions::default()).map_err(e)?;
-    let kt = statics::tangent(&k, &dofs, &model.pairs, &solution.displacement).map_err(e)?;
+    let kt = statics::tangent(comm, &k, &dofs, &model.pairs, &solution.displacement).map_err(e)?;
     if symmetric_check {
         let norm = kt.norm_frobenius().map_err(e)?;
         if !kt.is_symmetric(1e-12 * norm).map_err(e)? {

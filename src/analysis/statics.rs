@@ -68,6 +68,8 @@ pub enum StaticsError {
         cutbacks: usize,
         last: String,
     },
+    #[error("a contact point failed on another rank (its message is printed by that rank)")]
+    OtherRank,
     #[error("contact: {0}")]
     Contact(#[from] contact::ContactError),
     #[error(transparent)]
@@ -108,8 +110,10 @@ fn equations(dofs: &DofMap, nodes: &[usize]) -> Vec<PetscInt> {
 }
 
 /// Adds the contact internal forces at displacement `u` into `f` (ADD, then assembles).
-/// Collective.
+/// Collective: a point that fails on one rank is an error on every rank, so no rank is left
+/// waiting in the solver's next collective call.
 pub fn add_contact_forces(
+    comm: Comm,
     f: &mut Vector,
     dofs: &DofMap,
     pairs: &[ContactPair],
@@ -127,14 +131,25 @@ pub fn add_contact_forces(
         }
     }
     f.assemble()?;
+    collective_failure(comm, failure)
+}
+
+/// Every rank's outcome of a loop over its own contact points, made collective.
+fn collective_failure(
+    comm: Comm,
+    failure: Option<contact::ContactError>,
+) -> Result<(), StaticsError> {
+    let all_ok = comm.all(failure.is_none());
     match failure {
         Some(e) => Err(e.into()),
+        None if !all_ok => Err(StaticsError::OtherRank),
         None => Ok(()),
     }
 }
 
-/// J = K + dF_c/dU at `u`, into `j` (same pattern as K). Collective.
+/// J = K + dF_c/dU at `u`, into `j` (same pattern as K). Collective, failures included.
 pub fn tangent_into<'rt>(
+    comm: Comm<'rt>,
     j: &mut Matrix<'rt>,
     stiffness: &Matrix<'rt>,
     dofs: &DofMap,
@@ -158,21 +173,19 @@ pub fn tangent_into<'rt>(
         }
     }
     j.assemble()?;
-    match failure {
-        Some(e) => Err(e.into()),
-        None => Ok(()),
-    }
+    collective_failure(comm, failure)
 }
 
 /// The tangent stiffness K_t = K + dF_c/dU at `u`, as a new matrix. Collective.
 pub fn tangent<'rt>(
+    comm: Comm<'rt>,
     stiffness: &Matrix<'rt>,
     dofs: &DofMap,
     pairs: &[ContactPair],
     u: &[[f64; 3]],
 ) -> Result<Matrix<'rt>, StaticsError> {
     let mut j = stiffness.duplicate()?;
-    tangent_into(&mut j, stiffness, dofs, pairs, u)?;
+    tangent_into(comm, &mut j, stiffness, dofs, pairs, u)?;
     Ok(j)
 }
 
@@ -279,11 +292,11 @@ fn newton<'rt>(
         k.mult(x, f).map_err(|e| e.to_string())?;
         f.axpy(-load_factor, load).map_err(|e| e.to_string())?;
         let u = node_displacements(x, dofs).map_err(|e| e.to_string())?;
-        add_contact_forces(f, dofs, pairs, &u).map_err(|e| e.to_string())
+        add_contact_forces(comm, f, dofs, pairs, &u).map_err(|e| e.to_string())
     });
     let jacobian = Box::new(move |x: &Vector<'rt>, j: &mut Matrix<'rt>| {
         let u = node_displacements(x, dofs).map_err(|e| e.to_string())?;
-        tangent_into(j, k, dofs, pairs, &u).map_err(|e| e.to_string())
+        tangent_into(comm, j, k, dofs, pairs, &u).map_err(|e| e.to_string())
     });
     let j = k.duplicate()?;
     let mut snes = NonlinearSolver::new(comm, residual, jacobian, j, options)?;

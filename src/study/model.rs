@@ -39,6 +39,20 @@ pub enum ModelError {
     Unsupported { file: PathBuf, why: String },
 }
 
+/// The DOF map of a model on the world communicator, the same on every rank. Collective;
+/// a support naming a node outside the model is an error on every rank.
+pub fn dof_map(
+    comm: crate::petsc::Comm,
+    nodes: usize,
+    supports: &[Support],
+) -> anyhow::Result<crate::fem::DofMap> {
+    super::report::collective(
+        comm,
+        crate::fem::DofMap::new(nodes, 0, supports, comm.size(), comm.rank())
+            .map_err(anyhow::Error::msg),
+    )
+}
+
 /// The built-in brake's supports for a structure without contact: the disc clamped at its
 /// hub, each pad held at its backplate ears (where it bears on the bracket).
 pub fn brake_supports(mesh: &Mesh) -> Vec<Support> {

@@ -101,17 +101,7 @@ pub fn run(rt: &Runtime, args: &ModesArgs) -> anyhow::Result<()> {
         },
     };
     let mesh = &model.mesh;
-    let dofs = collective(
-        comm,
-        DofMap::new(
-            mesh.nodes.len(),
-            0,
-            &model.supports,
-            comm.size(),
-            comm.rank(),
-        )
-        .map_err(anyhow::Error::msg),
-    )?;
+    let dofs = model::dof_map(comm, mesh.nodes.len(), &model.supports)?;
     if root {
         tracing::info!(
             "{}: {} nodes, {} elements, {} equations on {} rank(s)",

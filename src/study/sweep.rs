@@ -183,17 +183,7 @@ pub fn assemble_model<'rt>(
     mass_rule: crate::fem::element::MassRule,
 ) -> anyhow::Result<Assembled<'rt>> {
     let mesh = &model.mesh;
-    let dofs = collective(
-        comm,
-        DofMap::new(
-            mesh.nodes.len(),
-            0,
-            &model.supports,
-            comm.size(),
-            comm.rank(),
-        )
-        .map_err(anyhow::Error::msg),
-    )?;
+    let dofs = super::model::dof_map(comm, mesh.nodes.len(), &model.supports)?;
     let groups = statics::contact_groups(&model.pairs);
     let pattern = assemble::pattern(
         &dofs,
@@ -479,7 +469,7 @@ pub fn run(rt: &Runtime, study: &Study, file: &str) -> anyhow::Result<()> {
         }
         let static_seconds = t_static.elapsed().as_secs_f64();
         let t_cea = Instant::now();
-        let tangent = statics::tangent(&k, &dofs, &model.pairs, &equilibrium.displacement)?;
+        let tangent = statics::tangent(comm, &k, &dofs, &model.pairs, &equilibrium.displacement)?;
         let result = match &damping {
             None => collective(comm, cea::undamped(comm, &tangent, &m, &options))?,
             Some(c) => {
