@@ -176,6 +176,11 @@ fn main() -> ExitCode {
         .with_ansi(std::io::IsTerminal::is_terminal(&std::io::stderr()))
         .without_time()
         .init();
+    if !matches!(cli.command, Command::Info { .. }) {
+        if let Some(w) = study::blas::warning() {
+            tracing::warn!("{w}");
+        }
+    }
     let result = match cli.command {
         Command::Info { json } => study::info::run(&rt, json),
         Command::Bench {

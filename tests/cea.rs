@@ -23,6 +23,18 @@ const CHECKS: &[Check] = &[
         agreement: 1e-10,
     },
     Check {
+        name: "a_window_sized_from_the_expected_count_finds_every_mode_once",
+        run: hinted_targets,
+        ranks: &[1, 2],
+        agreement: 1e-10,
+    },
+    Check {
+        name: "a_wrong_expected_count_costs_shifts_not_modes",
+        run: wrongly_hinted_targets,
+        ranks: &[1, 2],
+        agreement: 1e-10,
+    },
+    Check {
         name: "damping_moves_the_threshold_as_the_closed_form_says",
         run: damped_threshold,
         ranks: &[1, 2],
@@ -91,6 +103,39 @@ fn two_dof_coupling(rt: &Runtime) -> Result<Vec<f64>, String> {
 /// two decades and some blocks real (c = 0, a double eigenvalue). Every eigenvalue below the
 /// band's top must be found exactly once through the stepped targets.
 fn stepped_targets(rt: &Runtime) -> Result<Vec<f64>, String> {
+    let (modes, targets) = blocks_band(rt, None)?;
+    if targets < 3 {
+        return Err("the band was covered by one target: the stepping is not tested".into());
+    }
+    Ok(modes)
+}
+
+/// The same band with its mode count known (as in a sweep after its first point): one
+/// shift-and-invert window must hold it all.
+fn hinted_targets(rt: &Runtime) -> Result<Vec<f64>, String> {
+    let (modes, targets) = blocks_band(rt, Some(BAND_MODES))?;
+    if targets != 1 {
+        return Err(format!(
+            "{targets} targets with the exact count given, expected 1"
+        ));
+    }
+    Ok(modes)
+}
+
+/// Counts far too low and far too high: every mode still found once.
+fn wrongly_hinted_targets(rt: &Runtime) -> Result<Vec<f64>, String> {
+    let (mut low, _) = blocks_band(rt, Some(3))?;
+    let (high, _) = blocks_band(rt, Some(4 * BAND_MODES))?;
+    low.extend(high);
+    Ok(low)
+}
+
+/// Eigenvalues of the 80-block problem with frequency at most 700 Hz: both of blocks 0..=51
+/// (block b at 50 + 12.5 b Hz); block 52's pair, k (1 +/- 0.01 i) at 700 Hz, has its
+/// frequency raised by Re sqrt(1 +/- 0.01 i) - 1 = 1.25e-5 and falls just outside.
+const BAND_MODES: usize = 104;
+
+fn blocks_band(rt: &Runtime, expected: Option<usize>) -> Result<(Vec<f64>, usize), String> {
     let comm = rt.world();
     let blocks = 80;
     let kk = |b: usize| (2.0 * PI * (50.0 + 12.5 * b as f64)).powi(2);
@@ -112,6 +157,7 @@ fn stepped_targets(rt: &Runtime) -> Result<Vec<f64>, String> {
         max_frequency_hz: f_max,
         modes_per_target: 12,
         tolerance: 1e-12,
+        expected_modes: expected,
         ..Default::default()
     };
     let result = cea::undamped(comm, &k, &m, &options).map_err(e)?;
@@ -148,14 +194,20 @@ fn stepped_targets(rt: &Runtime) -> Result<Vec<f64>, String> {
             return Err(format!("lambda {x}: found {got} times, expected {want}"));
         }
     }
-    if result.targets.len() < 3 {
-        return Err("the band was covered by one target: the stepping is not tested".into());
+    if exact.len() != BAND_MODES {
+        return Err(format!(
+            "{} modes in the band, not {BAND_MODES}",
+            exact.len()
+        ));
     }
-    Ok(result
-        .modes
-        .iter()
-        .flat_map(|m| [m.lambda.re, m.lambda.im])
-        .collect())
+    Ok((
+        result
+            .modes
+            .iter()
+            .flat_map(|m| [m.lambda.re, m.lambda.im])
+            .collect(),
+        result.targets.len(),
+    ))
 }
 
 /// The 2-DOF model with damping C = c I: each omega^2 gives lambda^2 + c lambda + omega^2 = 0,

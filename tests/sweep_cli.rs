@@ -210,5 +210,23 @@ fn bad_studies_name_the_file_and_the_key_and_write_nothing() {
         out.to_str().unwrap(),
     ]);
     assert!(e.contains("no mode in the band"), "{e}");
+    // A solver option PETSc refuses is a set-up error: reported at once, not retried with
+    // smaller load steps as if the equilibrium had diverged.
+    let e = failure(&[
+        "sweep",
+        "--preset",
+        "tiny",
+        "--friction",
+        "0.5",
+        "-o",
+        out.to_str().unwrap(),
+        "--petsc-options",
+        "-snes_lag_preconditioner -1",
+    ]);
+    assert!(
+        e.contains("snes_lag_preconditioner") || e.contains("lag"),
+        "{e}"
+    );
+    assert!(!e.contains("cutting back"), "{e}");
     assert!(!out.join("sweep.json").exists());
 }

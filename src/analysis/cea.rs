@@ -32,6 +32,11 @@ pub struct CeaOptions {
     /// A mode is unstable when its real part exceeds this fraction of |lambda|: above the
     /// round-off of a non-symmetric solve (~1e-10), far below any physical growth rate.
     pub unstable_threshold: f64,
+    /// How many modes the band is expected to hold (the previous point of a sweep): the
+    /// first target then goes inside the band with a window sized to cover all of it, which
+    /// usually needs one factorisation instead of several. The stepping carries on as usual
+    /// when the guess falls short, so a wrong guess costs time, never modes.
+    pub expected_modes: Option<usize>,
     pub linear: LinearMethod,
 }
 
@@ -42,6 +47,7 @@ impl Default for CeaOptions {
             modes_per_target: 30,
             tolerance: 1e-10,
             unstable_threshold: 1e-6,
+            expected_modes: None,
             linear: LinearMethod::default(),
         }
     }
@@ -175,10 +181,17 @@ pub fn undamped<'rt>(
     // multiplicity. The next window's disk must reach a quarter radius below that edge, so
     // the strip |Im omega^2| < 0.8 r around the real axis, where brake modes lie, has no
     // gap; a target whose disk comes out too small is moved back, or asked for more pairs.
+    //
+    // The first window starts at 0, or, when the band's mode count N is known, at 0.6 top
+    // with 1.5 N + 6 pairs: a disk of radius 0.8 top there satisfies both rules at once
+    // (it reaches 0.25 r below 0 and its half radius reaches the top), and holds the modes
+    // up to ~1.18 f_max, 1.4-1.7 N of them for plate-like to bulk mode densities.
     let size = template.global_size()?;
     let window = options.modes_per_target.max(4).min(size);
-    let mut count = window;
-    let mut target = 0.0;
+    let (mut target, mut count) = match options.expected_modes {
+        Some(n) if n > 0 => (0.6 * top, (3 * n / 2 + 6).min(size)),
+        _ => (0.0, window),
+    };
     let mut lower = f64::NEG_INFINITY;
     let mut retries = 0;
     loop {
@@ -210,15 +223,17 @@ pub fn undamped<'rt>(
             .map(|f| (f.1 - target).norm())
             .fold(0.0, f64::max);
         let everything = summary.converged >= size;
-        if lower.is_finite() && target - radius > lower - 0.25 * radius && !everything {
+        // Where the accepted strip starts: the previous window's edge, or 0 for the first.
+        let edge = if lower.is_finite() { lower } else { 0.0 };
+        if target - radius > edge - 0.25 * radius && !everything {
             retries += 1;
             if retries > 40 {
                 return Err(CeaError::Stuck(target));
             }
-            if target - lower < 0.1 * radius && count < size {
+            if target - edge < 0.1 * radius && count < size {
                 count = (2 * count).min(size);
             } else {
-                target = 0.5 * (lower + target);
+                target = 0.5 * (edge + target);
             }
             continue;
         }

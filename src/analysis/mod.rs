@@ -4,5 +4,6 @@
 pub mod cea;
 pub mod modes;
 pub mod operators;
+pub mod restraint;
 pub mod statics;
 pub mod tracking;

@@ -3,6 +3,7 @@
 //! pairs (unsymmetric with friction), MUMPS for the linear steps. The load goes on in
 //! increments, and a step that fails is cut back.
 
+use super::restraint::{self, Body, FreeBody};
 use crate::contact::{self, ContactPair, PointState};
 use crate::fem::DofMap;
 use crate::petsc::{
@@ -19,6 +20,8 @@ pub struct StaticProblem<'a, 'rt> {
     /// External load at factor 1.
     pub load: &'a Vector<'rt>,
     pub pairs: &'a [ContactPair],
+    /// The bodies checked for rigid motions the initial tangent leaves free (empty: none).
+    pub bodies: &'a [Body],
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -68,6 +71,8 @@ pub enum StaticsError {
         cutbacks: usize,
         last: String,
     },
+    #[error("the tangent stiffness is singular at the start of the static solve: {}; hold every body with supports, springs or contact pairs (guides, abutments)", .0.iter().map(|m| m.to_string()).collect::<Vec<_>>().join("; "))]
+    Unrestrained(Vec<FreeBody>),
     #[error("a contact point failed on another rank (its message is printed by that rank)")]
     OtherRank,
     #[error("contact: {0}")]
@@ -217,6 +222,14 @@ pub fn solve<'rt>(
         }
         x.set_local(&local)?;
     }
+    if !problem.bodies.is_empty() {
+        let u0 = node_displacements(&x, dofs)?;
+        let j0 = tangent(comm, problem.stiffness, dofs, problem.pairs, &u0)?;
+        let free = restraint::free_bodies(comm, &j0, dofs, problem.bodies)?;
+        if !free.is_empty() {
+            return Err(StaticsError::Unrestrained(free));
+        }
+    }
     let mut increments = Vec::new();
     let mut cutbacks = Vec::new();
     let mut factor = 0.0;
@@ -239,6 +252,11 @@ pub fn solve<'rt>(
                     reason: report.reason,
                 });
                 factor = target;
+            }
+            // Set-up and library faults (a bad option, no memory) are not cured by a smaller
+            // load step: only divergence and failed contact evaluations are cut back.
+            Err(err @ StaticsError::Petsc(PetscError::Library { .. } | PetscError::Invalid(_))) => {
+                return Err(err)
             }
             Err(err) => {
                 let why = err.to_string();

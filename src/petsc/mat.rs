@@ -244,6 +244,14 @@ impl<'rt> Matrix<'rt> {
         Ok(flag == sys::PETSC_TRUE)
     }
 
+    /// The diagonal, as a vector laid out like the rows (collective).
+    pub fn diagonal(&self) -> Result<Vector<'rt>> {
+        let (_, d) = self.vectors()?;
+        // SAFETY: live matrix; `d` has the row layout.
+        check(unsafe { sys::MatGetDiagonal(self.raw, d.raw) })?;
+        Ok(d)
+    }
+
     /// Frobenius norm (collective).
     pub fn norm_frobenius(&self) -> Result<f64> {
         let mut n = 0.0;

@@ -23,6 +23,8 @@ pub struct Info {
     pub scalar: String,
     /// External packages and whether this PETSc has them.
     pub packages: Vec<(String, bool)>,
+    /// The BLAS under MUMPS's dense kernels (rank 0's process).
+    pub blas: Option<super::blas::Blas>,
     pub rank_views: Vec<RankView>,
 }
 
@@ -89,6 +91,7 @@ pub fn gather(rt: &Runtime) -> crate::petsc::Result<Option<Info>> {
         index_bytes: rt.index_bytes(),
         scalar: "real double".into(),
         packages,
+        blas: super::blas::loaded(),
         rank_views,
     }))
 }
@@ -120,6 +123,15 @@ impl std::fmt::Display for Info {
         writeln!(f, "  solvers      {}", have.join(", "))?;
         if !missing.is_empty() {
             writeln!(f, "  not built in {}", missing.join(", "))?;
+        }
+        match &self.blas {
+            Some(b) if b.reference => writeln!(
+                f,
+                "  BLAS         {} ({}): slow, install libopenblas0-serial",
+                b.kind, b.library
+            )?,
+            Some(b) => writeln!(f, "  BLAS         {} ({})", b.kind, b.library)?,
+            None => writeln!(f, "  BLAS         not found in the process map")?,
         }
         writeln!(f, "  MPI ranks    {}", self.ranks)?;
         for v in &self.rank_views {

@@ -1,6 +1,7 @@
 //! What a user asks for: one function per subcommand, called by `main.rs`.
 
 pub mod bench;
+pub mod blas;
 pub mod cea;
 pub mod config;
 pub mod info;

@@ -6,6 +6,7 @@
 use super::config::{SpringDirection, Study};
 use super::report::{collective, write_atomically};
 use crate::analysis::cea::{self, CeaOptions, ComplexMode};
+use crate::analysis::restraint;
 use crate::analysis::statics::{self, StaticOptions, StaticProblem};
 use crate::analysis::tracking::{self, Instability, SweepPoint, Track, TrackingOptions};
 use crate::contact::{self, ContactPair, PairSettings, SearchOptions};
@@ -395,12 +396,13 @@ pub fn run(rt: &Runtime, study: &Study, file: &str) -> anyhow::Result<()> {
         .flat_map(|&n| (0..3).filter_map(move |c| dofs_ref.equation(n, c)))
         .collect();
 
-    let options = CeaOptions {
+    let mut options = CeaOptions {
         max_frequency_hz: study.analysis.max_frequency_hz,
         unstable_threshold: study.analysis.unstable_threshold,
         modes_per_target: study.analysis.window,
         ..Default::default()
     };
+    let bodies = restraint::bodies(&model.mesh);
     let mut reports: Vec<SweepPointReport> = Vec::new();
     let mut points: Vec<SweepPoint> = Vec::new();
     let mut previous: Option<Vec<[f64; 3]>> = None;
@@ -418,6 +420,7 @@ pub fn run(rt: &Runtime, study: &Study, file: &str) -> anyhow::Result<()> {
             stiffness: &k,
             load: &load,
             pairs: &model.pairs,
+            bodies: &bodies,
         };
         let equilibrium = statics::solve(
             comm,
@@ -479,6 +482,9 @@ pub fn run(rt: &Runtime, study: &Study, file: &str) -> anyhow::Result<()> {
         };
         let cea_seconds = t_cea.elapsed().as_secs_f64();
         let targets = result.targets.len();
+        // Friction moves modes little from one point to the next: the next CEA sizes its
+        // first window on this one's count.
+        options.expected_modes = Some(result.modes.len());
         // Shapes to rank 0: restricted for tracking; full for the unstable ones' VTU.
         let mut restricted = Vec::with_capacity(result.shapes.len());
         let mut unstable_fields = Vec::new();
