@@ -6,8 +6,8 @@ mod common;
 
 use num_complex::Complex64;
 use squeal::petsc::{
-    Comm, DirectPackage, EigenOptions, EigenProblem, EigenSolver, Factorization, LinearMethod,
-    LinearSolver, Matrix, NewtonOptions, NonlinearSolver, PetscError, PetscInt,
+    Comm, DirectPackage, EigenOptions, EigenProblem, EigenSolver, Factorization, JacobianChange,
+    LinearMethod, LinearSolver, Matrix, NewtonOptions, NonlinearSolver, PetscError, PetscInt,
     QuadraticEigenSolver, QuadraticOptions, RowPattern, Runtime, Spectrum, Vector,
 };
 use std::f64::consts::PI;
@@ -31,6 +31,7 @@ const CHECKS: &[Check] = checks![
     "block_gnhep_complex_shift_invert" => block_gnhep_complex,
     "snes_cubic_reaction_diffusion" => snes_known_solution,
     "snes_callback_error_is_err" => snes_callback_error,
+    "snes_kept_factorization_same_solution" => snes_kept_factorization,
     "pep_damped_oscillators" => pep_closed_form,
     "singular_solve_is_err_on_every_rank" => singular_solve,
     "entry_outside_pattern_is_err" => outside_pattern,
@@ -334,22 +335,25 @@ fn snes_known_solution(rt: &Runtime) -> Result<Vec<f64>, String> {
         }
         Ok(())
     });
-    let jacobian = Box::new(|x: &Vector, j: &mut Matrix| -> Result<(), String> {
-        let local = x.read().map_err(e)?.to_vec();
-        j.zero().map_err(e)?;
-        for (k, i) in (lo..hi).enumerate() {
-            for (c, v) in laplacian_1d(i, n) {
-                let d = if c == i {
-                    3.0 * local[k] * local[k]
-                } else {
-                    0.0
-                };
-                j.add_block(&[i as PetscInt], &[c as PetscInt], &[v + d])
-                    .map_err(e)?;
+    let jacobian = Box::new(
+        |x: &Vector, j: &mut Matrix| -> Result<JacobianChange, String> {
+            let local = x.read().map_err(e)?.to_vec();
+            j.zero().map_err(e)?;
+            for (k, i) in (lo..hi).enumerate() {
+                for (c, v) in laplacian_1d(i, n) {
+                    let d = if c == i {
+                        3.0 * local[k] * local[k]
+                    } else {
+                        0.0
+                    };
+                    j.add_block(&[i as PetscInt], &[c as PetscInt], &[v + d])
+                        .map_err(e)?;
+                }
             }
-        }
-        j.assemble().map_err(e)
-    });
+            j.assemble().map_err(e)?;
+            Ok(JacobianChange::Unknown)
+        },
+    );
     let options = NewtonOptions {
         relative_tolerance: 1e-12,
         ..Default::default()
@@ -374,6 +378,104 @@ fn snes_known_solution(rt: &Runtime) -> Result<Vec<f64>, String> {
     Ok(all)
 }
 
+/// A piecewise-linear problem like penalty contact: -u'' = 1 on (0, 1), u(0) = u(1) = 0,
+/// with a stiff spring k max(0, u - c) where u passes the obstacle c. Newton's Jacobian
+/// A + k diag(u > c) changes by one rank per node that enters or leaves the active set. With
+/// the factorisation kept across small changes, the solution must be the same (to the
+/// solve's tolerance), F = 0 must hold, and fewer factorisations must have been made.
+fn snes_kept_factorization(rt: &Runtime) -> Result<Vec<f64>, String> {
+    let comm = rt.world();
+    let n = 400;
+    let h2 = 1.0 / ((n + 1) as f64).powi(2);
+    let (k, c) = (1e4, 0.1);
+    let (lo, hi) = split(n, comm);
+    let solve = |keep: usize| -> Result<(Vec<f64>, usize, usize), String> {
+        let jac = matrix(comm, n, |i| laplacian_1d(i, n))?;
+        let residual = Box::new(|x: &Vector, f: &mut Vector| -> Result<(), String> {
+            let all = x.gather_all().map_err(e)?;
+            let mut out = f.write().map_err(e)?;
+            for (r, i) in (lo..hi).enumerate() {
+                let au: f64 = laplacian_1d(i, n).iter().map(|&(j, v)| v * all[j]).sum();
+                out[r] = au / h2 + k * (all[i] - c).max(0.0) - 1.0;
+            }
+            Ok(())
+        });
+        let mut previous: Option<Vec<bool>> = None;
+        let jacobian = Box::new(
+            move |x: &Vector, j: &mut Matrix| -> Result<JacobianChange, String> {
+                let local = x.read().map_err(e)?.to_vec();
+                let active: Vec<bool> = local.iter().map(|&u| u > c).collect();
+                j.zero().map_err(e)?;
+                for (r, i) in (lo..hi).enumerate() {
+                    for (col, v) in laplacian_1d(i, n) {
+                        let d = if col == i && active[r] { k } else { 0.0 };
+                        j.add_block(&[i as PetscInt], &[col as PetscInt], &[v / h2 + d])
+                            .map_err(e)?;
+                    }
+                }
+                j.assemble().map_err(e)?;
+                let change = match &previous {
+                    None => JacobianChange::Unknown,
+                    Some(p) => {
+                        let mut flips =
+                            [p.iter().zip(&active).filter(|(a, b)| a != b).count() as f64];
+                        comm.sum_in_place(&mut flips);
+                        JacobianChange::RankAtMost(flips[0] as usize)
+                    }
+                };
+                previous = Some(active);
+                Ok(change)
+            },
+        );
+        // Full steps: on a piecewise-linear F, Newton then moves from active set to active
+        // set (a semismooth Newton), where backtracking would crawl.
+        let options = NewtonOptions {
+            relative_tolerance: 1e-10,
+            line_search: "basic".into(),
+            keep_factorization_rank: keep,
+            ..Default::default()
+        };
+        let mut snes = NonlinearSolver::new(comm, residual, jacobian, jac, &options).map_err(e)?;
+        let mut x = Vector::new(comm, hi - lo).map_err(e)?;
+        let report = snes.solve(&mut x).map_err(e)?;
+        Ok((
+            x.gather_all().map_err(e)?,
+            report.iterations,
+            report.factorizations,
+        ))
+    };
+    let (fresh, its_fresh, lu_fresh) = solve(0)?;
+    let (kept, its_kept, lu_kept) = solve(40)?;
+    if lu_fresh != its_fresh {
+        return Err(format!(
+            "{lu_fresh} factorisations for {its_fresh} Newton steps without keeping"
+        ));
+    }
+    if its_fresh < 3 || lu_kept >= lu_fresh {
+        return Err(format!(
+            "kept: {lu_kept} factorisations in {its_kept} steps; fresh: {lu_fresh} in {its_fresh}"
+        ));
+    }
+    // F(u) = 0 checked here, independently of SNES's norm; scale: the load, 1 per node.
+    let mut worst: f64 = 0.0;
+    for i in 0..n {
+        let au: f64 = laplacian_1d(i, n).iter().map(|&(j, v)| v * kept[j]).sum();
+        worst = worst.max((au / h2 + k * (kept[i] - c).max(0.0) - 1.0).abs());
+    }
+    let scale = fresh.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let differ = fresh
+        .iter()
+        .zip(&kept)
+        .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+    if worst > 1e-8 || differ > 1e-10 * scale {
+        return Err(format!("|F| = {worst:e}, kept vs fresh {differ:e}"));
+    }
+    eprintln!(
+        "kept factorisation: {lu_kept} LU in {its_kept} steps (fresh: {lu_fresh} in {its_fresh})"
+    );
+    Ok(kept)
+}
+
 /// A residual or Jacobian closure that fails must surface as an Err carrying its message on
 /// every rank, not as a crash or a hang, and the solver must then be destroyed cleanly.
 fn snes_callback_error(rt: &Runtime) -> Result<Vec<f64>, String> {
@@ -388,11 +490,13 @@ fn snes_jacobian_error(rt: &Runtime) -> Result<Vec<f64>, String> {
     let jac = matrix(comm, n, |i| laplacian_1d(i, n))?;
     let residual =
         Box::new(|_x: &Vector, f: &mut Vector| -> Result<(), String> { f.set(1.0).map_err(e) });
-    let jacobian = Box::new(|_x: &Vector, j: &mut Matrix| -> Result<(), String> {
-        // Fail half-way through an assembly, as a real Jacobian might.
-        j.add_block(&[0], &[0], &[1.0]).map_err(e)?;
-        Err("tangent failed on purpose".into())
-    });
+    let jacobian = Box::new(
+        |_x: &Vector, j: &mut Matrix| -> Result<JacobianChange, String> {
+            // Fail half-way through an assembly, as a real Jacobian might.
+            j.add_block(&[0], &[0], &[1.0]).map_err(e)?;
+            Err("tangent failed on purpose".into())
+        },
+    );
     let mut snes = NonlinearSolver::new(comm, residual, jacobian, jac, &NewtonOptions::default())
         .map_err(e)?;
     let mut x = Vector::new(comm, hi - lo).map_err(e)?;
@@ -413,7 +517,11 @@ fn snes_residual_error(rt: &Runtime) -> Result<Vec<f64>, String> {
     let residual = Box::new(|_x: &Vector, _f: &mut Vector| -> Result<(), String> {
         Err("contact search failed on purpose".into())
     });
-    let jacobian = Box::new(|_x: &Vector, _j: &mut Matrix| -> Result<(), String> { Ok(()) });
+    let jacobian = Box::new(
+        |_x: &Vector, _j: &mut Matrix| -> Result<JacobianChange, String> {
+            Ok(JacobianChange::Unknown)
+        },
+    );
     let mut snes = NonlinearSolver::new(comm, residual, jacobian, jac, &NewtonOptions::default())
         .map_err(e)?;
     let mut x = Vector::new(comm, hi - lo).map_err(e)?;

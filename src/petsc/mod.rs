@@ -18,6 +18,6 @@ pub use ksp::{DirectPackage, Factorization, LinearMethod, LinearSolver};
 pub use mat::{Matrix, RowPattern, Structure};
 pub use pep::{QuadraticEigenSolver, QuadraticOptions};
 pub use runtime::{Comm, Runtime, RuntimeOptions};
-pub use snes::{format_history, NewtonOptions, NewtonReport, NonlinearSolver};
+pub use snes::{format_history, JacobianChange, NewtonOptions, NewtonReport, NonlinearSolver};
 pub use sys::PetscInt;
 pub use vec::Vector;

@@ -16,13 +16,28 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 /// F(x) into `f`. An `Err` stops the solve with that message.
 pub type Residual<'f, 'rt> =
     dyn FnMut(&Vector<'rt>, &mut Vector<'rt>) -> std::result::Result<(), String> + 'f;
-/// dF/dx at x into the matrix (same pattern every call).
+/// dF/dx at x into the matrix (same pattern every call), and how much it changed.
 pub type Jacobian<'f, 'rt> =
-    dyn FnMut(&Vector<'rt>, &mut Matrix<'rt>) -> std::result::Result<(), String> + 'f;
+    dyn FnMut(&Vector<'rt>, &mut Matrix<'rt>) -> std::result::Result<JacobianChange, String> + 'f;
+
+/// How a Jacobian differs from the one of the previous evaluation.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum JacobianChange {
+    /// Not known: the linear step factorises it.
+    Unknown,
+    /// By a matrix of rank at most this (contact points that opened or closed: one each).
+    RankAtMost(usize),
+}
 
 struct Callbacks<'f, 'rt> {
     residual: Box<Residual<'f, 'rt>>,
     jacobian: Box<Jacobian<'f, 'rt>>,
+    /// [`NewtonOptions::keep_factorization_rank`].
+    keep_rank: usize,
+    /// Rank of the change since the Jacobian last factorised; `None` before the first.
+    since_factorised: Option<usize>,
+    /// Factorisations asked for so far.
+    factorizations: usize,
 }
 
 /// Newton settings. PETSc options (`-snes_*`) given at start-up override them.
@@ -36,6 +51,12 @@ pub struct NewtonOptions {
     /// Backtracking line search ("bt") or the full step ("basic").
     pub line_search: String,
     pub linear: LinearMethod,
+    /// With a direct `linear` method: while the Jacobian differs from the last one
+    /// factorised by a change of rank at most this (as its callback reports), keep that
+    /// factorisation as the preconditioner of GMRES on the new Jacobian, which converges in
+    /// about rank + 1 iterations, each a pair of triangular solves, far cheaper than a new
+    /// factorisation. 0 factorises every Jacobian.
+    pub keep_factorization_rank: usize,
 }
 
 impl Default for NewtonOptions {
@@ -46,6 +67,7 @@ impl Default for NewtonOptions {
             max_iterations: 50,
             line_search: "bt".into(),
             linear: LinearMethod::default(),
+            keep_factorization_rank: 0,
         }
     }
 }
@@ -58,6 +80,8 @@ pub struct NewtonReport {
     pub residual_history: std::vec::Vec<f64>,
     /// PETSc's name for why it stopped ("CONVERGED_FNORM_RELATIVE"...).
     pub reason: String,
+    /// Jacobians factorised (the others reused a factorisation inside GMRES).
+    pub factorizations: usize,
 }
 
 pub struct NonlinearSolver<'f, 'rt> {
@@ -103,7 +127,7 @@ unsafe extern "C" fn residual_trampoline(
 }
 
 unsafe extern "C" fn jacobian_trampoline(
-    _snes: sys::SNES,
+    snes: sys::SNES,
     x: sys::PetscVec,
     j: sys::Mat,
     _p: sys::Mat,
@@ -113,7 +137,41 @@ unsafe extern "C" fn jacobian_trampoline(
     let callbacks = unsafe { &mut *(ctx as *mut Callbacks) };
     let x = ManuallyDrop::new(Vector::from_raw(x));
     let mut j = ManuallyDrop::new(Matrix::from_raw(j));
-    run("Jacobian", || (callbacks.jacobian)(&x, &mut j))
+    let mut change = JacobianChange::Unknown;
+    let code = run("Jacobian", || {
+        change = (callbacks.jacobian)(&x, &mut j)?;
+        Ok(())
+    });
+    if code != 0 {
+        return code;
+    }
+    // SNES reads its preconditioner lag right after this callback: -2 refactorises once,
+    // -1 keeps the factorisation (PETSc's SNESComputeJacobian).
+    let keep = match (change, callbacks.since_factorised) {
+        (JacobianChange::RankAtMost(r), Some(before)) if callbacks.keep_rank > 0 => {
+            let total = before + r;
+            // A Krylov solve that struggled (or failed) last time asks for a new one too.
+            let mut ksp = std::ptr::null_mut();
+            let (mut its, mut reason) = (0, 0);
+            // SAFETY: live SNES; out-pointers to locals.
+            let ok = unsafe {
+                sys::SNESGetKSP(snes, &mut ksp) == 0
+                    && sys::KSPGetIterationNumber(ksp, &mut its) == 0
+                    && sys::KSPGetConvergedReason(ksp, &mut reason) == 0
+            };
+            (ok && reason >= 0
+                && (its as usize) <= callbacks.keep_rank / 2 + 2
+                && total <= callbacks.keep_rank)
+                .then_some(total)
+        }
+        _ => None,
+    };
+    callbacks.since_factorised = Some(keep.unwrap_or(0));
+    if keep.is_none() {
+        callbacks.factorizations += 1;
+    }
+    // SAFETY: live SNES.
+    unsafe { sys::SNESSetLagPreconditioner(snes, if keep.is_some() { -1 } else { -2 }) }
 }
 
 impl<'f, 'rt> NonlinearSolver<'f, 'rt> {
@@ -134,6 +192,12 @@ impl<'f, 'rt> NonlinearSolver<'f, 'rt> {
             callbacks: Box::new(Callbacks {
                 residual,
                 jacobian: jacobian_fn,
+                keep_rank: match options.linear {
+                    LinearMethod::Direct { .. } => options.keep_factorization_rank,
+                    LinearMethod::Iterative { .. } => 0,
+                },
+                since_factorised: None,
+                factorizations: 0,
             }),
             jacobian,
             history: vec![0.0; options.max_iterations + 2],
@@ -173,6 +237,14 @@ impl<'f, 'rt> NonlinearSolver<'f, 'rt> {
             let mut ksp = std::ptr::null_mut();
             check(sys::SNESGetKSP(raw, &mut ksp))?;
             configure(ksp, &options.linear)?;
+            if solver.callbacks.keep_rank > 0 {
+                // GMRES around the (possibly kept) factorisation: one iteration when it is
+                // fresh, about rank + 1 when kept; the restart never comes into play.
+                let limit = super::vec::to_int(2 * solver.callbacks.keep_rank + 10)?;
+                check(sys::KSPSetType(ksp, sys::KSPGMRES.as_ptr().cast()))?;
+                check(sys::KSPGMRESSetRestart(ksp, limit))?;
+                check(sys::KSPSetTolerances(ksp, 1e-12, 1e-50, 1e10, limit))?;
+            }
             check(sys::SNESSetConvergenceHistory(
                 raw,
                 solver.history.as_mut_ptr(),
@@ -232,6 +304,7 @@ impl<'f, 'rt> NonlinearSolver<'f, 'rt> {
             iterations: its as usize,
             residual_history: history,
             reason: reason_text,
+            factorizations: self.callbacks.factorizations,
         })
     }
 

@@ -212,6 +212,8 @@ pub fn assemble_model<'rt>(
 pub struct SweepPointReport {
     pub friction: f64,
     pub static_iterations: usize,
+    /// Tangents factorised by the static solve (other iterations kept one inside GMRES).
+    pub static_factorizations: usize,
     pub static_residuals: Vec<f64>,
     pub cutbacks: usize,
     /// Per pair: name, closed points, total normal force, |friction force|, pressure range.
@@ -225,6 +227,9 @@ pub struct SweepPointReport {
     /// Shift-and-invert targets the CEA used.
     pub cea_shifts: usize,
     pub seconds: f64,
+    /// Peak resident memory (VmHWM) up to this point: the largest rank's and the sum, MiB.
+    pub peak_rss_mib_max_rank: f64,
+    pub peak_rss_mib_all_ranks: f64,
 }
 
 #[derive(Clone, Debug, serde::Serialize)]
@@ -507,9 +512,19 @@ pub fn run(rt: &Runtime, study: &Study, file: &str) -> anyhow::Result<()> {
             }
         }
         let static_iterations = equilibrium.increments.iter().map(|i| i.iterations).sum();
+        // Peak resident memory so far (VmHWM), largest rank and all ranks together.
+        let mut peak = [super::bench::peak_rss_mib()];
+        let mut peak_sum = peak;
+        comm.max_in_place(&mut peak);
+        comm.sum_in_place(&mut peak_sum);
         let report = SweepPointReport {
             friction: mu,
             static_iterations,
+            static_factorizations: equilibrium
+                .increments
+                .iter()
+                .map(|i| i.factorizations)
+                .sum(),
             static_residuals: equilibrium
                 .increments
                 .last()
@@ -527,17 +542,21 @@ pub fn run(rt: &Runtime, study: &Study, file: &str) -> anyhow::Result<()> {
             cea_seconds,
             cea_shifts: targets,
             seconds: t.elapsed().as_secs_f64(),
+            peak_rss_mib_max_rank: peak[0],
+            peak_rss_mib_all_ranks: peak_sum[0],
         };
         if root {
             let unstable = result.modes.iter().filter(|m| m.unstable).count();
             tracing::info!(
-                "mu {mu:.2} ({}/{total}): static {} Newton iterations ({static_seconds:.1} s), balance {:.6}; CEA {} modes, {} unstable, {targets} shifts ({cea_seconds:.1} s); {:.1} s",
+                "mu {mu:.2} ({}/{total}): static {} Newton iterations, {} factorisations ({static_seconds:.1} s), balance {:.6}; CEA {} modes, {} unstable, {targets} shifts ({cea_seconds:.1} s); {:.1} s, peak memory {:.0} MiB (all ranks)",
                 step + 1,
                 static_iterations,
+                report.static_factorizations,
                 report.balance_ratio,
                 result.modes.len(),
                 unstable,
-                report.seconds
+                report.seconds,
+                report.peak_rss_mib_all_ranks
             );
             let dir = study.output.join(format!("mu_{mu:.3}"));
             write_point(&dir, &model, &equilibrium, &unstable_fields, &report, study)?;
