@@ -202,6 +202,7 @@ pub fn undamped<'rt>(
             linear: options.linear.clone(),
             ..Default::default()
         };
+        let started = std::time::Instant::now();
         let mut eps = EigenSolver::new(comm, stiffness, Some(mass), &eps_options)?;
         let summary = match eps.solve() {
             Ok(s) => s,
@@ -241,9 +242,16 @@ pub fn undamped<'rt>(
         targets.push(target);
         let upper = target + 0.5 * radius;
         let last = upper >= top || everything;
-        tracing::debug!(
-            "CEA target {target:.4e}: {} pairs within {radius:.3e}",
-            summary.converged
+        // One line per shift: on an industrial model each takes minutes.
+        let hz = |w2: f64| w2.max(0.0).sqrt() / (2.0 * PI);
+        tracing::info!(
+            "CEA shift {} at {:.0} Hz: {} pairs up to {:.0} Hz kept from {:.0} Hz ({:.1} s)",
+            targets.len(),
+            hz(target),
+            summary.converged,
+            hz(upper.min(top)),
+            hz(lower),
+            started.elapsed().as_secs_f64()
         );
         for &(i, value) in &found {
             let inside = value.re >= lower && (last || value.re < upper);

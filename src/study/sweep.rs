@@ -476,6 +476,10 @@ pub fn run(rt: &Runtime, study: &Study, file: &str) -> anyhow::Result<()> {
             });
         }
         let static_seconds = t_static.elapsed().as_secs_f64();
+        tracing::debug!(
+            "after the static solve: peak memory {:.0} MiB on this rank",
+            super::bench::peak_rss_mib()
+        );
         let t_cea = Instant::now();
         let tangent = statics::tangent(comm, &k, &dofs, &model.pairs, &equilibrium.displacement)?;
         let result = match &damping {
