@@ -280,56 +280,23 @@ pub fn free_bodies<'rt>(
     Ok(free)
 }
 
-/// Eigenvalues (ascending) and unit eigenvectors of a symmetric 6x6 matrix, by cyclic Jacobi
-/// rotations (exact to round-off for a matrix this small; no library call needed).
-pub fn symmetric_eigen(mut a: [[f64; 6]; 6]) -> ([f64; 6], [[f64; 6]; 6]) {
-    let mut v = [[0.0; 6]; 6];
-    for (i, row) in v.iter_mut().enumerate() {
-        row[i] = 1.0;
-    }
-    for _sweep in 0..100 {
-        let off: f64 = (0..6)
-            .flat_map(|i| (0..6).filter(move |&j| j != i).map(move |j| (i, j)))
-            .map(|(i, j)| a[i][j] * a[i][j])
-            .sum();
-        let total: f64 = off + (0..6).map(|i| a[i][i] * a[i][i]).sum::<f64>();
-        if off <= 1e-30 * total || off == 0.0 {
-            break;
+/// Eigenvalues (ascending) and unit eigenvectors of a symmetric 6x6 matrix (faer).
+pub fn symmetric_eigen(a: [[f64; 6]; 6]) -> ([f64; 6], [[f64; 6]; 6]) {
+    let m = faer::Mat::<f64>::from_fn(6, 6, |i, j| a[i][j]);
+    match m.self_adjoint_eigen(faer::Side::Lower) {
+        Ok(evd) => {
+            let (s, u) = (evd.S().column_vector(), evd.U());
+            let mut order: Vec<usize> = (0..6).collect();
+            order.sort_by(|&i, &j| s[i].total_cmp(&s[j]));
+            (
+                std::array::from_fn(|k| s[order[k]]),
+                std::array::from_fn(|k| std::array::from_fn(|i| u[(i, order[k])])),
+            )
         }
-        for p in 0..5 {
-            for q in p + 1..6 {
-                if a[p][q] == 0.0 {
-                    continue;
-                }
-                let theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
-                let t = theta.signum() / (theta.abs() + (theta * theta + 1.0).sqrt());
-                let t = if theta == 0.0 { 1.0 } else { t };
-                let c = 1.0 / (t * t + 1.0).sqrt();
-                let s = t * c;
-                // A <- J^T A J: columns p, q, then rows p, q.
-                for row in a.iter_mut() {
-                    let (akp, akq) = (row[p], row[q]);
-                    row[p] = c * akp - s * akq;
-                    row[q] = s * akp + c * akq;
-                }
-                let (row_p, row_q) = (a[p], a[q]);
-                for k in 0..6 {
-                    a[p][k] = c * row_p[k] - s * row_q[k];
-                    a[q][k] = s * row_p[k] + c * row_q[k];
-                }
-                for row in v.iter_mut() {
-                    let (vp, vq) = (row[p], row[q]);
-                    row[p] = c * vp - s * vq;
-                    row[q] = s * vp + c * vq;
-                }
-            }
-        }
+        // Only non-finite input fails: nothing can be said here, and the solve that follows
+        // reports the non-finite tangent itself.
+        Err(_) => ([f64::NAN; 6], [[0.0; 6]; 6]),
     }
-    let mut order: Vec<usize> = (0..6).collect();
-    order.sort_by(|&i, &j| a[i][i].total_cmp(&a[j][j]));
-    let values = std::array::from_fn(|k| a[order[k]][order[k]]);
-    let vectors = std::array::from_fn(|k| std::array::from_fn(|i| v[i][order[k]]));
-    (values, vectors)
 }
 
 #[cfg(test)]
@@ -337,7 +304,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn jacobi_recovers_a_known_spectrum() {
+    fn eigen_recovers_a_known_spectrum() {
         // A = Q diag(w) Q^T with Q a product of plane rotations.
         let w = [-2.0, 0.0, 1e-12, 1.0, 3.0, 7.5];
         let mut q = [[0.0; 6]; 6];
