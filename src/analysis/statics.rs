@@ -170,11 +170,28 @@ pub fn tangent_into<'rt>(
 ) -> Result<(), StaticsError> {
     j.zero()?;
     j.add(1.0, stiffness, Structure::Same)?;
+    add_contact_tangent(comm, j, dofs, pairs, u, 1.0)
+}
+
+/// Adds `scale` dF_c/dU at `u` into `j` (whose pattern holds the contact couplings) and
+/// assembles. With scale 1 then -1 around a use, a stiffness serves as the tangent without a
+/// second matrix, and comes back to within one rounding per entry. Collective.
+pub fn add_contact_tangent<'rt>(
+    comm: Comm<'rt>,
+    j: &mut Matrix<'rt>,
+    dofs: &DofMap,
+    pairs: &[ContactPair],
+    u: &[[f64; 3]],
+    scale: f64,
+) -> Result<(), StaticsError> {
     let mut failure = None;
     for (pair, point) in owned_points(pairs, dofs) {
         match contact::evaluate(pair, point, u) {
-            Ok((_, Some(c))) => {
+            Ok((_, Some(mut c))) => {
                 let idx = equations(dofs, &c.nodes);
+                if scale != 1.0 {
+                    c.jacobian.iter_mut().for_each(|v| *v *= scale);
+                }
                 j.add_block(&idx, &idx, &c.jacobian)?;
             }
             Ok((_, None)) => {}
