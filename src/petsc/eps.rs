@@ -44,6 +44,9 @@ pub struct EigenOptions {
     pub max_iterations: usize,
     /// Factorisation of (A - target B) for shift-and-invert.
     pub linear: LinearMethod,
+    /// Krylov subspace size (SLEPc's ncv) for `NearTarget` and `Largest`; SLEPc's default
+    /// (about twice the count) when `None`.
+    pub subspace: Option<usize>,
 }
 
 impl Default for EigenOptions {
@@ -57,6 +60,7 @@ impl Default for EigenOptions {
             tolerance: 1e-10,
             max_iterations: 1000,
             linear: LinearMethod::default(),
+            subspace: None,
         }
     }
 }
@@ -123,10 +127,14 @@ impl<'rt> EigenSolver<'rt> {
             match options.spectrum {
                 Spectrum::NearTarget { target, count } => {
                     solver.requested = count;
+                    let ncv = match options.subspace {
+                        Some(n) => to_int(n)?,
+                        None => sys::PETSC_DEFAULT,
+                    };
                     check(sys::EPSSetDimensions(
                         raw,
                         to_int(count)?,
-                        sys::PETSC_DEFAULT,
+                        ncv,
                         sys::PETSC_DEFAULT,
                     ))?;
                     check(sys::EPSSetTarget(raw, target))?;
