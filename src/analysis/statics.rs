@@ -160,6 +160,7 @@ fn collective_failure(
 }
 
 /// J = K + dF_c/dU at `u`, into `j` (same pattern as K). Collective, failures included.
+/// Returns whether each of this rank's contact points is closed (owned-point order).
 pub fn tangent_into<'rt>(
     comm: Comm<'rt>,
     j: &mut Matrix<'rt>,
@@ -167,7 +168,7 @@ pub fn tangent_into<'rt>(
     dofs: &DofMap,
     pairs: &[ContactPair],
     u: &[[f64; 3]],
-) -> Result<(), StaticsError> {
+) -> Result<Vec<bool>, StaticsError> {
     j.zero()?;
     j.add(1.0, stiffness, Structure::Same)?;
     add_contact_tangent(comm, j, dofs, pairs, u, 1.0)
@@ -175,7 +176,8 @@ pub fn tangent_into<'rt>(
 
 /// Adds `scale` dF_c/dU at `u` into `j` (whose pattern holds the contact couplings) and
 /// assembles. With scale 1 then -1 around a use, a stiffness serves as the tangent without a
-/// second matrix, and comes back to within one rounding per entry. Collective.
+/// second matrix, and comes back to within one rounding per entry. Collective. Returns
+/// whether each of this rank's contact points is closed (owned-point order).
 pub fn add_contact_tangent<'rt>(
     comm: Comm<'rt>,
     j: &mut Matrix<'rt>,
@@ -183,18 +185,21 @@ pub fn add_contact_tangent<'rt>(
     pairs: &[ContactPair],
     u: &[[f64; 3]],
     scale: f64,
-) -> Result<(), StaticsError> {
+) -> Result<Vec<bool>, StaticsError> {
     let mut failure = None;
+    let mut closed = Vec::new();
     for (pair, point) in owned_points(pairs, dofs) {
         match contact::evaluate(pair, point, u) {
-            Ok((_, Some(mut c))) => {
-                let idx = equations(dofs, &c.nodes);
-                if scale != 1.0 {
-                    c.jacobian.iter_mut().for_each(|v| *v *= scale);
+            Ok((state, contribution)) => {
+                closed.push(state.closed);
+                if let Some(mut c) = contribution {
+                    let idx = equations(dofs, &c.nodes);
+                    if scale != 1.0 {
+                        c.jacobian.iter_mut().for_each(|v| *v *= scale);
+                    }
+                    j.add_block(&idx, &idx, &c.jacobian)?;
                 }
-                j.add_block(&idx, &idx, &c.jacobian)?;
             }
-            Ok((_, None)) => {}
             Err(e) => {
                 failure = Some(e);
                 break;
@@ -202,7 +207,8 @@ pub fn add_contact_tangent<'rt>(
         }
     }
     j.assemble()?;
-    collective_failure(comm, failure)
+    collective_failure(comm, failure)?;
+    Ok(closed)
 }
 
 /// The tangent stiffness K_t = K + dF_c/dU at `u`, as a new matrix. Collective.
@@ -344,11 +350,7 @@ fn newton<'rt>(
     let mut previous: Option<Vec<bool>> = None;
     let jacobian = Box::new(move |x: &Vector<'rt>, j: &mut Matrix<'rt>| {
         let u = node_displacements(x, dofs).map_err(|e| e.to_string())?;
-        tangent_into(comm, j, k, dofs, pairs, &u).map_err(|e| e.to_string())?;
-        let closed = owned_points(pairs, dofs)
-            .map(|(pair, pt)| contact::point_state(pair, pt, &u).map(|s| s.closed))
-            .collect::<Result<Vec<bool>, _>>()
-            .map_err(|e| e.to_string())?;
+        let closed = tangent_into(comm, j, k, dofs, pairs, &u).map_err(|e| e.to_string())?;
         let change = match &previous {
             None => JacobianChange::Unknown,
             Some(p) => {
