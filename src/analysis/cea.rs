@@ -8,6 +8,7 @@
 //! b / 2 pi, real part a. Friction couples two modes into a pair omega^2 = x +/- i y, whose
 //! lambdas have real parts -/+ a at one frequency: the mode with a > 0 grows (squeal).
 
+use super::rigid;
 use crate::petsc::{
     Comm, EigenOptions, EigenProblem, EigenSolver, LinearMethod, Matrix, PetscError,
     QuadraticEigenSolver, QuadraticOptions, Spectrum, Vector,
@@ -62,6 +63,9 @@ pub struct ComplexMode {
     /// -Re(lambda) / |lambda|.
     pub damping_ratio: f64,
     pub unstable: bool,
+    /// A rigid-body mode: |omega^2| at round-off level ([`crate::analysis::rigid`]). Its
+    /// real part is round-off too, of either sign, so it is never flagged unstable.
+    pub rigid_body: bool,
     /// SLEPc's relative residual of the pair.
     pub residual: f64,
     #[serde(skip)]
@@ -100,7 +104,12 @@ fn by_frequency(a: &ComplexMode, b: &ComplexMode) -> std::cmp::Ordering {
     }
 }
 
-fn mode_from_lambda(lambda: Complex64, residual: f64, threshold: f64) -> ComplexMode {
+fn mode_from_lambda(
+    lambda: Complex64,
+    residual: f64,
+    threshold: f64,
+    rigid_body: bool,
+) -> ComplexMode {
     let magnitude = lambda.norm();
     ComplexMode {
         frequency_hz: lambda.im / (2.0 * PI),
@@ -110,7 +119,8 @@ fn mode_from_lambda(lambda: Complex64, residual: f64, threshold: f64) -> Complex
         } else {
             0.0
         },
-        unstable: lambda.re > threshold * magnitude,
+        unstable: !rigid_body && lambda.re > threshold * magnitude,
+        rigid_body,
         residual,
         lambda,
     }
@@ -281,14 +291,16 @@ pub fn undamped<'rt>(
     if accepted.is_empty() {
         return Err(CeaError::EmptyBand(options.max_frequency_hz));
     }
+    let level = rigid::roundoff_level(comm, stiffness, mass)?;
+    let magnitudes: Vec<f64> = accepted.iter().map(|a| a.0.norm()).collect();
+    let rigid = rigid::rigid_body_flags(&magnitudes, level, None);
     let mut items: Vec<(ComplexMode, Vector, Vector)> = accepted
         .into_iter()
-        .map(|(w2, res, re, im)| {
-            (
-                mode_from_lambda(lambda_of(w2), res, options.unstable_threshold),
-                re,
-                im,
-            )
+        .zip(rigid)
+        .map(|((w2, res, re, im), rigid_body)| {
+            let lambda = lambda_of(w2);
+            let mode = mode_from_lambda(lambda, res, options.unstable_threshold, rigid_body);
+            (mode, re, im)
         })
         .collect();
     items.sort_by(|a, b| by_frequency(&a.0, &b.0));
@@ -349,14 +361,19 @@ pub fn damped<'rt>(
                 "damped CEA: eigenvalues found up to |lambda| = {reach:.4e} only, below 2 pi f_max = {omega_max:.4e}: the top of the band may be incomplete"
             );
         }
+        // |omega^2| = |lambda|^2 against the undamped operators' round-off level.
+        let level = rigid::roundoff_level(comm, stiffness, mass)?;
+        let magnitudes: Vec<f64> = values.iter().map(|v| v.1.norm_sqr()).collect();
+        let rigid = rigid::rigid_body_flags(&magnitudes, level, None);
         let mut items = Vec::new();
-        for (i, value, mut re, mut im) in values {
+        for ((i, value, mut re, mut im), rigid_body) in values.into_iter().zip(rigid) {
             // One of each conjugate pair: non-negative frequency.
             if value.im < 0.0 || value.im / (2.0 * PI) > options.max_frequency_hz {
                 continue;
             }
             normalise(&mut re, &mut im, comm)?;
-            let m = mode_from_lambda(value, pep.relative_error(i)?, options.unstable_threshold);
+            let residual = pep.relative_error(i)?;
+            let m = mode_from_lambda(value, residual, options.unstable_threshold, rigid_body);
             items.push((m, re, im));
         }
         if items.is_empty() {
@@ -390,10 +407,12 @@ mod tests {
         assert!((l1.re + l2.re).abs() < 1e-15);
         // lambda^2 = -omega^2.
         assert!((l1 * l1 + Complex64::new(x, y)).norm() < 1e-14);
-        let m = mode_from_lambda(l2, 0.0, 1e-6);
+        let m = mode_from_lambda(l2, 0.0, 1e-6, false);
         assert!(m.unstable && m.real_part > 0.0 && m.damping_ratio < 0.0);
+        // The same value called a rigid-body mode (round-off) is never unstable.
+        assert!(!mode_from_lambda(l2, 0.0, 1e-6, true).unstable);
         // A real omega^2 is a neutral mode.
-        let n = mode_from_lambda(lambda_of(Complex64::new(x, 0.0)), 0.0, 1e-6);
+        let n = mode_from_lambda(lambda_of(Complex64::new(x, 0.0)), 0.0, 1e-6, false);
         assert!(
             !n.unstable && n.real_part == 0.0 && (n.frequency_hz - 2.0 / (2.0 * PI)).abs() < 1e-15
         );

@@ -5,5 +5,6 @@ pub mod cea;
 pub mod modes;
 pub mod operators;
 pub mod restraint;
+pub mod rigid;
 pub mod statics;
 pub mod tracking;

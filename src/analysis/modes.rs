@@ -3,6 +3,7 @@
 //! spectrum slicing, which counts the eigenvalues below each shift from the factorisation's
 //! inertia, so every mode in the band is found once and none twice. Works on any (K, M).
 
+use super::rigid;
 use crate::petsc::{
     Comm, EigenOptions, EigenProblem, EigenSolver, LinearMethod, Matrix, PetscError, Spectrum,
     Vector,
@@ -24,6 +25,10 @@ pub struct ModesOptions {
     /// Relative residual tolerance of each pair.
     pub tolerance: f64,
     pub linear: LinearMethod,
+    /// How many rigid-body motions the model has, when known (6 per free body, from
+    /// [`crate::analysis::restraint::free_bodies`]): confirms where the rigid cluster ends
+    /// (see [`crate::analysis::rigid`]).
+    pub expected_rigid_modes: Option<usize>,
 }
 
 impl Default for ModesOptions {
@@ -34,6 +39,7 @@ impl Default for ModesOptions {
             },
             tolerance: 1e-10,
             linear: LinearMethod::default(),
+            expected_rigid_modes: None,
         }
     }
 }
@@ -49,7 +55,8 @@ pub struct RealMode {
     pub eigenvalue: f64,
     /// |K phi - omega^2 M phi| / |omega^2 M phi|, SLEPc's relative error.
     pub residual: f64,
-    /// A zero-energy (rigid-body) mode of an unsupported body.
+    /// A zero-energy (rigid-body) mode of an unsupported body: an eigenvalue at round-off
+    /// level, in the cluster below the spectrum's gap ([`crate::analysis::rigid`]).
     pub rigid_body: bool,
 }
 
@@ -72,10 +79,6 @@ pub enum ModesError {
     #[error(transparent)]
     Petsc(#[from] PetscError),
 }
-
-/// Eigenvalues this far below zero still count as the rigid-body modes' round-off: the
-/// factorisation is exact to about eps * |K| / |M|, far below any elastic mode.
-const RIGID_RELATIVE: f64 = 1e-10;
 
 /// Computes real modes of (K, M). Collective.
 pub fn real_modes<'rt>(
@@ -135,7 +138,6 @@ pub fn real_modes<'rt>(
         linear: options.linear.clone(),
         ..Default::default()
     };
-    let scale = high;
     let mut eps = EigenSolver::new(comm, k, Some(m), &eps_options)?;
     let summary = eps.solve()?;
     if let Some(requested) = requested {
@@ -163,15 +165,18 @@ pub fn real_modes<'rt>(
     if let Some(count) = requested {
         found.truncate(count);
     }
+    let level = rigid::roundoff_level(comm, k, m)?;
+    let values: Vec<f64> = found.iter().map(|f| f.0).collect();
+    let rigid = rigid::rigid_body_flags(&values, level, options.expected_rigid_modes);
     let mut modes = Vec::with_capacity(found.len());
     let mut shapes = Vec::with_capacity(found.len());
-    for (i, (value, residual, shape)) in found.into_iter().enumerate() {
+    for (i, ((value, residual, shape), rigid_body)) in found.into_iter().zip(rigid).enumerate() {
         modes.push(RealMode {
             index: i + 1,
             frequency_hz: value.max(0.0).sqrt() / (2.0 * PI),
             eigenvalue: value,
             residual,
-            rigid_body: value.abs() <= RIGID_RELATIVE * scale,
+            rigid_body,
         });
         shapes.push(shape);
     }

@@ -4,6 +4,7 @@
 use super::model::{self, StructureModel};
 use super::report::{collective, write_atomically};
 use crate::analysis::modes::{real_modes, ModeBand, ModesOptions, RealMode};
+use crate::analysis::restraint;
 use crate::fem::{assemble, element::MassRule, DofMap, StructureOptions};
 use crate::mesh::vtu::{Field, VtuWriter};
 use crate::petsc::Runtime;
@@ -128,6 +129,13 @@ pub fn run(rt: &Runtime, args: &ModesArgs) -> anyhow::Result<()> {
             pattern.nonzeros()
         );
     }
+    // The bodies' free motions (6 per unsupported body, fewer when partly held) say how
+    // many rigid-body modes to expect; the eigenvalues' own gap confirms it.
+    let free = collective(
+        comm,
+        restraint::free_bodies(comm, &k, &dofs, &restraint::bodies(mesh)),
+    )?;
+    let expected_rigid_modes = free.iter().map(|b| b.motions.len()).sum();
     let t = Instant::now();
     let solution = real_modes(
         comm,
@@ -136,6 +144,7 @@ pub fn run(rt: &Runtime, args: &ModesArgs) -> anyhow::Result<()> {
         &ModesOptions {
             band: band.clone(),
             tolerance: args.tolerance,
+            expected_rigid_modes: Some(expected_rigid_modes),
             ..Default::default()
         },
     )
