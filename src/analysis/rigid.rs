@@ -15,18 +15,20 @@
 //! So a rigid-body mode is an eigenvalue with |omega^2| below the round-off level
 //! `ROUNDOFF * lambda_ref` (1e-9 lambda_ref: 5e5 times the largest scatter seen, and, in
 //! frequency, 3e-5 of the mesh's own top frequency, below any elastic mode of a model a
-//! person would run), and the cluster of them is cut where the spectrum jumps: the largest
-//! ratio between consecutive |omega^2| inside that level (the next value above it counts as
-//! the level itself). When the model's bodies are known (`analysis::restraint` finds which
-//! are free and how many motions each leaves), that count is taken wherever the spectrum
-//! has a clear gap there (at least `MIN_GAP`), so a soft but real mode near zero (a part
-//! on a very weak spring) is not mistaken for a seventh rigid motion.
+//! person would run). Inside that level nothing else is read from the values: round-off
+//! scatters over many decades (1e-12 next to 5e2 on one free-free block), so the largest
+//! ratio between neighbours inside the cluster says nothing (tried: it cut a block's six
+//! rigid modes after the first). When the model's bodies are known (`analysis::restraint`
+//! finds which are free and how many motions each leaves), that count is taken if fewer
+//! values lie below the level and the spectrum has a clear gap there (the next value at
+//! least `MIN_GAP` times the count-th), so a soft but real mode near zero (a part on a very
+//! weak spring) is not taken for a seventh rigid motion.
 
 /// |omega^2| below this fraction of lambda_ref is round-off (see the module doc).
 pub const ROUNDOFF: f64 = 1e-9;
 
-/// A gap of this ratio in omega^2 (30 in frequency) between the rigid cluster and the next
-/// eigenvalue confirms a count given by the restraint check.
+/// A gap of this ratio in omega^2 (30 in frequency) between the count-th eigenvalue and the
+/// next confirms a count given by the restraint check that is below the round-off count.
 pub const MIN_GAP: f64 = 1e3;
 
 use crate::petsc::{Comm, Matrix, PetscError};
@@ -62,16 +64,14 @@ pub fn rigid_body_flags(magnitudes: &[f64], level: f64, expected: Option<usize>)
     order.sort_by(|&a, &b| magnitudes[a].abs().total_cmp(&magnitudes[b].abs()));
     let sorted: Vec<f64> = order.iter().map(|&i| magnitudes[i].abs()).collect();
     let candidates = sorted.iter().take_while(|&&a| a <= level).count();
-    // The ratio from the k-th smallest to the next: the jump a cluster of k would end at.
+    // The ratio from the k-th smallest to the next: the gap a cluster of k would end at.
     let gap = |k: usize| -> f64 {
         let next = sorted.get(k).copied().unwrap_or(level);
         next / sorted[k - 1].max(f64::MIN_POSITIVE)
     };
     let count = match expected {
-        Some(e) if e <= candidates && (e == 0 || gap(e) >= MIN_GAP) => e,
-        _ => (1..=candidates)
-            .max_by(|&a, &b| gap(a).total_cmp(&gap(b)).then(a.cmp(&b)))
-            .unwrap_or(0),
+        Some(e) if e < candidates && (e == 0 || gap(e) >= MIN_GAP) => e,
+        _ => candidates,
     };
     let mut flags = vec![false; magnitudes.len()];
     for &i in &order[..count] {
@@ -117,21 +117,29 @@ mod tests {
     }
 
     #[test]
-    fn the_cluster_ends_at_the_largest_jump() {
+    fn round_off_scattered_over_decades_is_one_cluster() {
+        // The free-free block that a largest-ratio cut split after the first value.
+        let values = [-480.0, 1e-12, -35.0, 0.29, 2.4, 16.0, 3.5e9, 5.7e9];
+        let flags = rigid_body_flags(&values, 1e4, None);
+        assert_eq!(flags, [true, true, true, true, true, true, false, false]);
+    }
+
+    #[test]
+    fn a_known_count_keeps_a_soft_mode_elastic() {
         // Six round-off values, then a soft mode still under the level, then elastic.
         let values = [1e-3, -2e-3, 3e-3, 1e-3, 5e-4, 2e-3, 50.0, 1e7];
-        let flags = rigid_body_flags(&values, 1e4, None);
-        // Without the count the soft mode joins the cluster: the jump after it (1e7 / 50)
-        // is larger than the one before it (50 / 3e-3).
-        assert_eq!(flags.iter().filter(|&&f| f).count(), 7);
-        // The restraint check's count settles it, the gap there (1.7e4) being clear.
-        assert_eq!(
-            rigid_body_flags(&values, 1e4, Some(6))
+        let count = |e| {
+            rigid_body_flags(&values, 1e4, e)
                 .iter()
                 .filter(|&&f| f)
-                .count(),
-            6
-        );
+                .count()
+        };
+        // Below the level everything is round-off unless the bodies say otherwise.
+        assert_eq!(count(None), 7);
+        // The restraint check's count settles it, the gap there (1.7e4) being clear...
+        assert_eq!(count(Some(6)), 6);
+        // ...but not where there is no gap (inside the round-off cluster).
+        assert_eq!(count(Some(3)), 7);
     }
 
     #[test]
