@@ -1,6 +1,7 @@
 //! Results are written whole or not at all: into a temporary file in the same folder, synced,
-//! then renamed over the target. A reader never sees half a file, and a failed write leaves
-//! the old file (or none) and no temporary behind. Every writer of squeal goes through here.
+//! then renamed over the target. A reader never sees half a file, and a failed write (or a
+//! panic) leaves the old file (or none) and no temporary behind. Every writer of squeal goes
+//! through here.
 
 use std::fs::File;
 use std::io::{BufWriter, Write};
@@ -25,23 +26,22 @@ pub fn write_with(
             ));
         }
     }
-    let mut temp_name = std::ffi::OsString::from(".");
-    temp_name.push(name);
-    temp_name.push(format!(".{}.tmp", std::process::id()));
-    let temp = path.with_file_name(temp_name);
-    let result = (|| {
-        let mut out = BufWriter::new(File::create(&temp)?);
-        fill(&mut out)?;
-        let file = out.into_inner().map_err(|e| e.into_error())?;
-        file.sync_all()?;
-        drop(file);
-        std::fs::rename(&temp, path)
-    })();
-    if result.is_err() {
-        // Best effort: the temporary file may not even exist.
-        let _ = std::fs::remove_file(&temp);
-    }
-    result
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    // tempfile gives a unique hidden name created exclusively (two runs writing one folder
+    // cannot clobber each other's temporary), and removes it on every early return or
+    // panic: only `persist` keeps it, under the final name.
+    let temp = tempfile::Builder::new()
+        .prefix(&format!(".{}.", name.to_string_lossy()))
+        .suffix(".tmp")
+        .tempfile_in(dir)?;
+    let mut out = BufWriter::new(temp.as_file().try_clone()?);
+    fill(&mut out)?;
+    out.into_inner().map_err(|e| e.into_error())?.sync_all()?;
+    temp.persist(path).map_err(|e| e.error)?;
+    Ok(())
 }
 
 /// Writes `contents` to `path` atomically.

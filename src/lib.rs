@@ -9,5 +9,6 @@ pub mod atomic_file;
 pub mod contact;
 pub mod fem;
 pub mod mesh;
+pub mod model;
 pub mod petsc;
 pub mod study;

@@ -12,9 +12,9 @@ use squeal::fem::element::MassRule;
 use squeal::fem::springs::{add_ground_springs, GroundSpring};
 use squeal::fem::{assemble, DofMap, StructureOptions, Support};
 use squeal::mesh::{block::block, Material, Mesh, Surface};
+use squeal::model::{self, Model, Operators};
 use squeal::petsc::Runtime;
 use squeal::study::config::Study;
-use squeal::study::sweep::{assemble_model, build_model, Assembled};
 
 const CHECKS: &[Check] = &[
     Check {
@@ -144,8 +144,9 @@ fn block_on_block(rt: &Runtime) -> Result<Vec<f64>, String> {
             });
         }
     }
-    let dofs = DofMap::new(mesh.nodes.len(), 0, &supports, comm.size(), comm.rank())?;
-    let groups = statics::contact_groups(&pairs);
+    let dofs = DofMap::new(mesh.nodes.len(), 0, &supports, comm.size(), comm.rank())
+        .map_err(|e| e.to_string())?;
+    let groups = squeal::contact::contact_groups(&pairs);
     let pattern = assemble::pattern(
         &dofs,
         mesh.elements
@@ -217,13 +218,13 @@ fn brake_setup(mu: f64) -> Study {
 fn brake_modes(rt: &Runtime, mu: f64, symmetric_check: bool) -> Result<Vec<f64>, String> {
     let comm = rt.world();
     let study = brake_setup(mu);
-    let model = build_model(&study, "test").map_err(e)?;
-    let Assembled {
+    let model = Model::from_spec(&study.model_spec()).map_err(e)?;
+    let Operators {
         dofs,
         stiffness: k,
         mass: m,
         load,
-    } = assemble_model(comm, &model, MassRule::Exact).map_err(e)?;
+    } = model::assemble(comm, &model, MassRule::Exact).map_err(e)?;
     let problem = StaticProblem {
         dofs: &dofs,
         stiffness: &k,
@@ -285,13 +286,13 @@ fn unheld_pad(rt: &Runtime) -> Result<Vec<f64>, String> {
     let comm = rt.world();
     let mut study = brake_setup(0.5);
     study.springs.clear();
-    let model = build_model(&study, "test").map_err(e)?;
-    let Assembled {
+    let model = Model::from_spec(&study.model_spec()).map_err(e)?;
+    let Operators {
         dofs,
         stiffness: k,
         load,
         ..
-    } = assemble_model(comm, &model, MassRule::Exact).map_err(e)?;
+    } = model::assemble(comm, &model, MassRule::Exact).map_err(e)?;
     let problem = StaticProblem {
         dofs: &dofs,
         stiffness: &k,

@@ -76,7 +76,8 @@ fn structure<'rt>(
     rule: MassRule,
 ) -> Result<(DofMap, Matrix<'rt>, Matrix<'rt>), String> {
     let comm = rt.world();
-    let dofs = DofMap::new(mesh.nodes.len(), 0, supports, comm.size(), comm.rank())?;
+    let dofs = DofMap::new(mesh.nodes.len(), 0, supports, comm.size(), comm.rank())
+        .map_err(|e| e.to_string())?;
     let pattern = assemble::pattern(&dofs, mesh.elements.iter().map(|c| &c[..]));
     let (k, m) = assemble::stiffness_and_mass(
         comm,
@@ -205,7 +206,7 @@ fn mass_per_part(rt: &Runtime) -> Result<Vec<f64>, String> {
 fn brake_modes(rt: &Runtime) -> Result<Vec<f64>, String> {
     let params = brake::preset("tiny").ok_or("no tiny preset")?;
     let mesh = brake::build(&params).map_err(|e| e.to_string())?;
-    let supports = squeal::study::model::brake_supports(&mesh);
+    let supports = squeal::model::source::brake_supports(&mesh);
     let (_, k, m) = structure(rt, &mesh, &supports, MassRule::Exact)?;
     let f = frequencies(
         rt,

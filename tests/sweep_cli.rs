@@ -230,3 +230,82 @@ fn bad_studies_name_the_file_and_the_key_and_write_nothing() {
     assert!(!e.contains("cutting back"), "{e}");
     assert!(!out.join("sweep.json").exists());
 }
+
+/// The modes the stability map outlines as unstable (the black group of markers).
+fn unstable_markers(svg: &str) -> usize {
+    svg.split("stroke=\"#000000\" stroke-width=\"1.3\">")
+        .nth(1)
+        .and_then(|g| g.split("</g>").next())
+        .map_or(0, |g| g.matches("class=\"mk\"").count())
+}
+
+/// "Unstable" is decided once, by the CEA with the study's threshold: with a threshold
+/// raised to 1e-2 (a mode must grow by more than 1 % of |lambda| per second), the map
+/// outlines exactly the modes the table and sweep.json count, and fewer than at the default
+/// 1e-6 (the tiny brake's 3.1 kHz instability at mu 0.6 grows by 0.4 %: unstable at 1e-6,
+/// not at 1e-2).
+#[test]
+fn stability_map_and_table_agree_for_a_non_default_threshold() {
+    let dir = scratch("threshold");
+    let study = dir.join("study.toml");
+    let run = common::mpirun(
+        1,
+        squeal(),
+        &[
+            "sweep",
+            "--preset",
+            "tiny",
+            "--write-study",
+            study.to_str().unwrap(),
+        ],
+    );
+    assert!(run.status.success(), "{}", common::text(&run));
+    let text = std::fs::read_to_string(&study).unwrap();
+    let mut counts = Vec::new();
+    for threshold in ["0.000001", "0.01"] {
+        std::fs::write(
+            &study,
+            text.replace(
+                "unstable_threshold = 0.000001",
+                &format!("unstable_threshold = {threshold}"),
+            ),
+        )
+        .unwrap();
+        let out = dir.join(format!("out-{threshold}"));
+        let run = common::mpirun(
+            2,
+            squeal(),
+            &[
+                "sweep",
+                study.to_str().unwrap(),
+                "--friction",
+                "0.6",
+                "--fmax",
+                "6000",
+                "-o",
+                out.to_str().unwrap(),
+            ],
+        );
+        assert!(run.status.success(), "{}", common::text(&run));
+        let json: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(out.join("sweep.json")).unwrap()).unwrap();
+        let in_json = json["points"][0]["eigenvalues"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|m| m["unstable"].as_bool().unwrap())
+            .count();
+        // The table's row for mu 0.60: mu, modes, unstable, ...
+        let stdout = String::from_utf8_lossy(&run.stdout);
+        let row = stdout
+            .lines()
+            .find(|l| l.trim_start().starts_with("0.60"))
+            .unwrap_or_else(|| panic!("no table row for mu 0.60:\n{stdout}"));
+        let in_table: usize = row.split_whitespace().nth(2).unwrap().parse().unwrap();
+        let svg = std::fs::read_to_string(out.join("stability_map.svg")).unwrap();
+        assert_eq!(in_json, in_table, "threshold {threshold}: {row}");
+        assert_eq!(unstable_markers(&svg), in_json, "threshold {threshold}");
+        counts.push(in_json);
+    }
+    assert!(counts[1] < counts[0] && counts[1] > 0, "{counts:?}");
+}

@@ -11,7 +11,7 @@
 use super::rigid;
 use crate::petsc::{
     Comm, EigenOptions, EigenProblem, EigenSolver, LinearMethod, Matrix, PetscError,
-    QuadraticEigenSolver, QuadraticOptions, Spectrum, Vector,
+    QuadraticEigenSolver, QuadraticOptions, Spectrum, Structure, Vector,
 };
 use num_complex::Complex64;
 use std::f64::consts::PI;
@@ -21,6 +21,20 @@ use std::f64::consts::PI;
 pub struct RayleighDamping {
     pub alpha: f64,
     pub beta: f64,
+}
+
+impl RayleighDamping {
+    /// C = alpha M + beta K, on K's pattern (M's must be the same). Collective.
+    pub fn matrix<'rt>(
+        &self,
+        stiffness: &Matrix<'rt>,
+        mass: &Matrix<'rt>,
+    ) -> Result<Matrix<'rt>, PetscError> {
+        let mut c = stiffness.duplicate()?;
+        c.scale(self.beta)?;
+        c.add(self.alpha, mass, Structure::Same)?;
+        Ok(c)
+    }
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -94,8 +108,9 @@ pub enum CeaError {
 }
 
 /// Frequency order, with frequencies equal to 1e-9 ordered by real part (a coupled pair has
-/// one frequency: round-off must not decide which comes first).
-fn by_frequency(a: &ComplexMode, b: &ComplexMode) -> std::cmp::Ordering {
+/// one frequency: round-off must not decide which comes first). The one ordering of modes,
+/// for the sparse CEA here and any dense one.
+pub fn by_frequency(a: &ComplexMode, b: &ComplexMode) -> std::cmp::Ordering {
     let scale = a.frequency_hz.abs().max(b.frequency_hz.abs());
     if (a.frequency_hz - b.frequency_hz).abs() <= 1e-9 * scale {
         a.real_part.total_cmp(&b.real_part)
@@ -104,7 +119,17 @@ fn by_frequency(a: &ComplexMode, b: &ComplexMode) -> std::cmp::Ordering {
     }
 }
 
-fn mode_from_lambda(
+/// Whether lambda is an unstable (growing) mode: its real part exceeds `threshold` times
+/// |lambda| (see [`CeaOptions::unstable_threshold`]). The one decision of "unstable" in
+/// squeal: the CEA's flags, the tracking's instabilities and the plots all come from it.
+pub fn is_unstable(lambda: Complex64, threshold: f64) -> bool {
+    lambda.re > threshold * lambda.norm()
+}
+
+/// A complex mode from its eigenvalue lambda, classified: frequency, real part, damping
+/// ratio, unstable (never for a rigid-body mode, whose real part is round-off). Public so a
+/// dense CEA classifies its modes exactly as the sparse one does.
+pub fn mode_from_lambda(
     lambda: Complex64,
     residual: f64,
     threshold: f64,
@@ -119,7 +144,7 @@ fn mode_from_lambda(
         } else {
             0.0
         },
-        unstable: !rigid_body && lambda.re > threshold * magnitude,
+        unstable: !rigid_body && is_unstable(lambda, threshold),
         rigid_body,
         residual,
         lambda,
@@ -315,6 +340,27 @@ pub fn undamped<'rt>(
         shapes,
         targets,
     })
+}
+
+/// The CEA of (K, M), damped by C when given: the undamped one, or the damped one sized on
+/// the undamped mode count of the same band (the quadratic problem needs to be told how
+/// many eigenvalues to look for). Collective.
+pub fn solve<'rt>(
+    comm: Comm<'rt>,
+    stiffness: &Matrix<'rt>,
+    mass: &Matrix<'rt>,
+    damping: Option<&Matrix<'rt>>,
+    options: &CeaOptions,
+) -> Result<CeaResult<'rt>, CeaError> {
+    let undamped = undamped(comm, stiffness, mass, options)?;
+    match damping {
+        None => Ok(undamped),
+        Some(c) => {
+            let expected = undamped.modes.len();
+            drop(undamped);
+            damped(comm, stiffness, c, mass, expected, options)
+        }
+    }
 }
 
 /// The damped CEA (lambda^2 M + lambda C + K_t) phi = 0: the eigenvalues nearest lambda = 0,

@@ -88,16 +88,6 @@ pub enum StaticsError {
     Petsc(#[from] PetscError),
 }
 
-/// Node groups coupled by the contact pairs (a point's slave and master nodes), for the
-/// matrix pattern.
-pub fn contact_groups(pairs: &[ContactPair]) -> Vec<Vec<usize>> {
-    pairs
-        .iter()
-        .flat_map(|p| p.points.iter())
-        .map(|pt| pt.slave.iter().chain(&pt.master).map(|&(n, _)| n).collect())
-        .collect()
-}
-
 /// The points a rank evaluates: those whose first slave node it owns.
 fn owned_points<'p>(
     pairs: &'p [ContactPair],

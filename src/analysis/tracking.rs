@@ -622,7 +622,7 @@ pub fn instabilities(
     check_points(points)?;
     check_tracks(points, tracks)?;
     let lambda_of = |t: &Track, k: usize| t.members[k].map(|mode| points[k].eigenvalues[mode]);
-    let unstable = |lambda: Complex64| lambda.re > options.real_part_tolerance * lambda.norm();
+    let unstable = |lambda: Complex64| super::cea::is_unstable(lambda, options.real_part_tolerance);
 
     let mut found = Vec::new();
     for (id, t) in tracks.iter().enumerate() {

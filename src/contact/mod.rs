@@ -95,6 +95,16 @@ pub(crate) fn norm(a: [f64; 3]) -> f64 {
     dot(a, a).sqrt()
 }
 
+/// Node groups coupled by the contact pairs (a point's slave and master nodes), for the
+/// matrix pattern.
+pub fn contact_groups(pairs: &[pair::ContactPair]) -> Vec<Vec<usize>> {
+    pairs
+        .iter()
+        .flat_map(|p| p.points.iter())
+        .map(|pt| pt.slave.iter().chain(&pt.master).map(|&(n, _)| n).collect())
+        .collect()
+}
+
 /// Meshes for the tests of this module: two blocks in one mesh.
 #[cfg(test)]
 pub(crate) mod test_models {

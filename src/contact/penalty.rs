@@ -24,8 +24,8 @@
 //! friction, a bilateral point under tension (`p < 0`) gets `mu p t`, against `t`: the law of
 //! METHOD.md as written.
 
-use super::pair::{ContactPair, ContactPoint};
-use super::{add, dot, scale, ContactError};
+use super::pair::{ContactPair, ContactPoint, SlidingDirection};
+use super::{add, cross, dot, norm, scale, sub, ContactError};
 
 /// The state of one contact point for a displacement field.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -177,6 +177,13 @@ pub struct PairSummary {
     pub force_on_slave: [f64; 3],
     /// Sum of the tributary areas of the closed points.
     pub closed_area: f64,
+    /// Moment of the friction forces on the slave about the disc's axis (a pair sliding by
+    /// [`SlidingDirection::DiscRotation`]; 0 otherwise): the braking torque, signed along
+    /// the axis as given.
+    pub braking_torque: f64,
+    /// braking_torque / (mu N): where the friction acts on average, between the pad's inner
+    /// and outer radius when the pad slides everywhere it touches (0 without friction).
+    pub effective_radius: f64,
     /// `None` when no point is closed.
     pub pressure: Option<PressureRange>,
 }
@@ -190,7 +197,15 @@ pub fn summarize(pair: &ContactPair, u: &[[f64; 3]]) -> Result<PairSummary, Cont
         friction_force: [0.0; 3],
         force_on_slave: [0.0; 3],
         closed_area: 0.0,
+        braking_torque: 0.0,
+        effective_radius: 0.0,
         pressure: None,
+    };
+    let axis = match &pair.settings.sliding {
+        SlidingDirection::DiscRotation { centre, axis, .. } => {
+            Some((*centre, scale(1.0 / norm(*axis), *axis)))
+        }
+        _ => None,
     };
     let mut range = PressureRange {
         min: f64::INFINITY,
@@ -210,6 +225,9 @@ pub fn summarize(pair: &ContactPair, u: &[[f64; 3]]) -> Result<PairSummary, Cont
         if let Some(t) = point.tangent {
             let friction = scale(pair.settings.friction * state.normal_force, t);
             summary.friction_force = add(summary.friction_force, friction);
+            if let Some((centre, a)) = axis {
+                summary.braking_torque += dot(a, cross(sub(point.position, centre), friction));
+            }
         }
         range.min = range.min.min(state.pressure);
         range.max = range.max.max(state.pressure);
@@ -218,6 +236,10 @@ pub fn summarize(pair: &ContactPair, u: &[[f64; 3]]) -> Result<PairSummary, Cont
     if summary.closed > 0 {
         range.mean /= summary.closed as f64;
         summary.pressure = Some(range);
+    }
+    let mu_n = pair.settings.friction * summary.normal_force;
+    if mu_n > 0.0 {
+        summary.effective_radius = summary.braking_torque / mu_n;
     }
     Ok(summary)
 }

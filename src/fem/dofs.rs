@@ -16,6 +16,13 @@ pub struct Support {
     pub components: [bool; 3],
 }
 
+/// Why a DOF map could not be made.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum DofError {
+    #[error("support {support}: node index {node} is not in the model")]
+    NodeOutside { support: String, node: usize },
+}
+
 /// The DOF numbering of a model, identical on every rank, with each rank's share.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct DofMap {
@@ -38,13 +45,14 @@ impl DofMap {
         supports: &[Support],
         ranks: usize,
         rank: usize,
-    ) -> Result<DofMap, String> {
+    ) -> Result<DofMap, DofError> {
         let nodes = mesh_nodes + extra_nodes;
         let mut held = vec![[false; 3]; nodes];
         for s in supports {
             for &n in &s.nodes {
-                let h = held.get_mut(n).ok_or_else(|| {
-                    format!("support {}: node index {n} is not in the model", s.name)
+                let h = held.get_mut(n).ok_or_else(|| DofError::NodeOutside {
+                    support: s.name.clone(),
+                    node: n,
                 })?;
                 for (held, &component) in h.iter_mut().zip(&s.components) {
                     *held |= component;
@@ -205,6 +213,7 @@ mod tests {
             components: [true; 3],
         };
         let err = DofMap::new(3, 0, &[s], 1, 0).unwrap_err();
-        assert!(err.contains("hub") && err.contains('7'), "{err}");
+        let text = err.to_string();
+        assert!(text.contains("hub") && text.contains('7'), "{text}");
     }
 }

@@ -4,8 +4,9 @@
 pub mod assemble;
 pub mod dofs;
 pub mod element;
+pub mod loads;
 pub mod springs;
 pub mod tet10;
 
 pub use assemble::{AssemblyError, StructureOptions};
-pub use dofs::{DofMap, Support};
+pub use dofs::{DofError, DofMap, Support};

@@ -82,10 +82,9 @@ pub fn run(
             let t = Instant::now();
             let mesh = brake::build(&params)?;
             t_mesh.push(t.elapsed().as_secs_f64());
-            let supports = super::model::brake_supports(&mesh);
+            let supports = crate::model::source::brake_supports(&mesh);
             let t = Instant::now();
-            let dofs = DofMap::new(mesh.nodes.len(), 0, &supports, comm.size(), comm.rank())
-                .map_err(anyhow::Error::msg)?;
+            let dofs = DofMap::new(mesh.nodes.len(), 0, &supports, comm.size(), comm.rank())?;
             let pattern = assemble::pattern(&dofs, mesh.elements.iter().map(|c| &c[..]));
             t_pattern.push(t.elapsed().as_secs_f64());
             local_elements = assemble::local_elements(&mesh, &dofs).count();

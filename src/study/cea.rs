@@ -112,16 +112,11 @@ pub fn run(rt: &Runtime, args: &CeaArgs) -> anyhow::Result<()> {
         modes_per_target: args.modes_per_target,
         ..Default::default()
     };
-    let undamped = collective(comm, cea::undamped(comm, &k, &m, &options))?;
-    let modes = match &set.damping {
-        None => undamped.modes,
-        Some(c) => {
-            let c = matrix_from_entries(comm, n, &c.entries)?;
-            let expected = undamped.modes.len();
-            drop(undamped);
-            collective(comm, cea::damped(comm, &k, &c, &m, expected, &options))?.modes
-        }
+    let damping = match &set.damping {
+        Some(c) => Some(matrix_from_entries(comm, n, &c.entries)?),
+        None => None,
     };
+    let modes = collective(comm, cea::solve(comm, &k, &m, damping.as_ref(), &options))?.modes;
     if root {
         print!("{}", table(&modes));
         let model = MatrixModel {

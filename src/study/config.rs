@@ -4,7 +4,10 @@
 
 use crate::analysis::cea::RayleighDamping;
 use crate::contact::SlidingDirection;
-use crate::mesh::brake::BrakeParams;
+use crate::model::spec::ModelSpec;
+pub use crate::model::spec::{
+    ContactSpec, MaterialSpec, MeshSpec, PressureSpec, SpringDirection, SpringSpec, SupportSpec,
+};
 use std::path::{Path, PathBuf};
 
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -32,101 +35,6 @@ pub struct Study {
 
 fn default_output() -> PathBuf {
     PathBuf::from("squeal-out")
-}
-
-/// Where the mesh comes from: a file, or the built-in brake (a preset, optionally with
-/// changed parameters).
-#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct MeshSpec {
-    /// A .msh or .inp file, relative to the study file.
-    pub file: Option<PathBuf>,
-    /// Built-in brake preset (tiny, small, medium, industrial); default small.
-    pub preset: Option<String>,
-    /// Built-in brake parameters (replace the preset's).
-    pub brake: Option<BrakeParams>,
-}
-
-#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct MaterialSpec {
-    pub part: String,
-    pub young: f64,
-    pub poisson: f64,
-    pub density: f64,
-}
-
-#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct SupportSpec {
-    /// Node set (or surface) name.
-    pub set: String,
-    /// Held components, e.g. "xyz" or "z".
-    #[serde(default = "all_components")]
-    pub components: String,
-}
-
-fn all_components() -> String {
-    "xyz".into()
-}
-
-/// Direction of a spring to ground.
-#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum SpringDirection {
-    /// A fixed vector.
-    Vector([f64; 3]),
-    /// Radial from the disc axis (z through the origin) at each node.
-    Radial,
-    /// Circumferential about the disc axis at each node (the normal of a radial plane such
-    /// as a pad abutment).
-    Circumferential,
-}
-
-#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct SpringSpec {
-    pub set: String,
-    pub direction: SpringDirection,
-    /// Total stiffness of the set (N/m), shared equally by its nodes.
-    pub stiffness: f64,
-}
-
-#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct PressureSpec {
-    pub surface: String,
-    /// Pa (positive pushes into the body).
-    pub value: f64,
-}
-
-#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct ContactSpec {
-    pub name: String,
-    /// Slave surface (the pad).
-    pub slave: String,
-    /// Master surface (the disc).
-    pub master: String,
-    pub friction: f64,
-    /// Penalty per unit area; default 10 E_min / h.
-    pub penalty: Option<f64>,
-    #[serde(default = "yes")]
-    pub separation: bool,
-    /// Friction direction: disc rotation, fixed, or none.
-    #[serde(default = "no_sliding")]
-    pub sliding: SlidingDirection,
-    /// Whether the friction sweep sets this pair's mu.
-    #[serde(default)]
-    pub sweep: bool,
-}
-
-fn yes() -> bool {
-    true
-}
-
-fn no_sliding() -> SlidingDirection {
-    SlidingDirection::None
 }
 
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -265,6 +173,18 @@ impl Study {
             contacts: vec![disc_pad("inboard"), disc_pad("outboard")],
             analysis: AnalysisSpec::default(),
             output: default_output(),
+        }
+    }
+
+    /// The model part of the study, for [`crate::model::Model::from_spec`].
+    pub fn model_spec(&self) -> ModelSpec<'_> {
+        ModelSpec {
+            mesh: &self.mesh,
+            materials: &self.materials,
+            supports: &self.supports,
+            springs: &self.springs,
+            pressures: &self.pressures,
+            contacts: &self.contacts,
         }
     }
 

@@ -6,7 +6,6 @@ pub mod cea;
 pub mod config;
 pub mod info;
 pub mod matrix_file;
-pub mod model;
 pub mod modes;
 pub mod plot;
 pub mod report;

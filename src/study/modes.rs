@@ -1,12 +1,12 @@
 //! `squeal modes`: real modes of a mesh file or of the built-in brake, as a table, JSON,
 //! CSV and a VTU file with every mode shape.
 
-use super::model::{self, StructureModel};
 use super::report::{collective, write_atomically};
 use crate::analysis::modes::{real_modes, ModeBand, ModesOptions, RealMode};
 use crate::analysis::restraint;
 use crate::fem::{assemble, element::MassRule, DofMap, StructureOptions};
 use crate::mesh::vtu::{Field, VtuWriter};
+use crate::model::{source, Model, ModelError};
 use crate::petsc::Runtime;
 use anyhow::Context;
 use std::path::PathBuf;
@@ -35,17 +35,17 @@ pub fn load_model(
     preset: &str,
     fixes: &[String],
     materials: &[String],
-) -> anyhow::Result<StructureModel> {
-    let local = (|| -> Result<StructureModel, model::ModelError> {
+) -> anyhow::Result<Model> {
+    let local = (|| -> Result<Model, ModelError> {
         let mut m = match mesh {
-            Some(path) => model::read(path)?,
-            None => model::builtin(preset)?,
+            Some(path) => source::read(path)?,
+            None => source::builtin(preset)?,
         };
         for f in fixes {
-            model::add_fix(&mut m, f)?;
+            source::add_fix(&mut m, f)?;
         }
         for spec in materials {
-            model::add_material(&mut m, spec)?;
+            source::add_material(&mut m, spec)?;
         }
         Ok(m)
     })();
@@ -102,7 +102,7 @@ pub fn run(rt: &Runtime, args: &ModesArgs) -> anyhow::Result<()> {
         },
     };
     let mesh = &model.mesh;
-    let dofs = model::dof_map(comm, mesh.nodes.len(), &model.supports)?;
+    let dofs = crate::model::assemble::dof_map(comm, &model)?;
     if root {
         tracing::info!(
             "{}: {} nodes, {} elements, {} equations on {} rank(s)",
@@ -192,7 +192,7 @@ pub fn run(rt: &Runtime, args: &ModesArgs) -> anyhow::Result<()> {
 
 fn write_outputs(
     args: &ModesArgs,
-    model: &StructureModel,
+    model: &Model,
     dofs: &DofMap,
     modes: &[RealMode],
     shapes: &[Vec<f64>],

@@ -37,17 +37,15 @@ macro_rules! put {
     }};
 }
 
-/// A mode is drawn as unstable when its real part exceeds this fraction of |lambda|. An
-/// undamped stable mode has a real part of exactly 0 in theory and of round-off size in a
-/// shift-and-invert solve (relative error ~1e-10 of |lambda|); real squeal modes have a
-/// modal damping ratio -a/|lambda| of order -1e-4 to -1e-2. 1e-6 sits far from both.
-pub const UNSTABLE_RELATIVE_REAL_PART: f64 = 1e-6;
-
-/// Whether a mode of frequency `frequency_hz` and real part `real_part` (1/s) is unstable:
-/// its real part is positive beyond round-off (see [`UNSTABLE_RELATIVE_REAL_PART`]).
-pub fn is_unstable(frequency_hz: f64, real_part: f64) -> bool {
-    let magnitude = real_part.hypot(2.0 * std::f64::consts::PI * frequency_hz);
-    real_part > 0.0 && real_part > UNSTABLE_RELATIVE_REAL_PART * magnitude
+/// A mode on the stability map. `unstable` is the CEA's own classification
+/// ([`crate::analysis::cea::ComplexMode::unstable`]), so the map and the tables never
+/// disagree, whatever threshold the study sets.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MapPoint {
+    pub mu: f64,
+    pub frequency_hz: f64,
+    pub real_part: f64,
+    pub unstable: bool,
 }
 
 /// How a series is drawn.
@@ -1493,18 +1491,17 @@ const FRICTION_LABEL: &str = "Friction coefficient μ";
 const FREQUENCY_LABEL: &str = "Frequency (Hz)";
 const REAL_PART_LABEL: &str = "Real part (1/s)";
 
-/// The stability map: every mode of every mu of a sweep, `(mu, frequency Hz, real part
-/// 1/s)`, as frequency (x) against real part (y), coloured by mu, y = 0 emphasised,
-/// unstable modes ([`is_unstable`]) outlined in black and drawn on top.
-pub fn stability_map(points: &[(f64, f64, f64)], title: &str) -> Figure {
-    let (unstable, stable): (Vec<_>, Vec<_>) =
-        points.iter().partition(|(_, f, a)| is_unstable(*f, *a));
-    let series = |name: &str, pts: &[&(f64, f64, f64)], highlight: bool| Series {
+/// The stability map: every mode of every mu of a sweep as frequency (x) against real
+/// part (y), coloured by mu, y = 0 emphasised, unstable modes outlined in black and drawn
+/// on top.
+pub fn stability_map(points: &[MapPoint], title: &str) -> Figure {
+    let (unstable, stable): (Vec<_>, Vec<_>) = points.iter().partition(|p| p.unstable);
+    let series = |name: &str, pts: &[&MapPoint], highlight: bool| Series {
         name: name.to_string(),
-        points: pts.iter().map(|(_, f, a)| (*f, *a)).collect(),
+        points: pts.iter().map(|p| (p.frequency_hz, p.real_part)).collect(),
         style: Style::Markers,
         color: Some(MUTED.to_string()),
-        values: Some(pts.iter().map(|(mu, _, _)| *mu).collect()),
+        values: Some(pts.iter().map(|p| p.mu).collect()),
         marker: Some(Marker::Circle),
         highlight,
         legend: true,
@@ -1512,8 +1509,8 @@ pub fn stability_map(points: &[(f64, f64, f64)], title: &str) -> Figure {
     let mu_range = extent(
         points
             .iter()
-            .filter(|(_, f, a)| plottable(*f) && plottable(*a))
-            .map(|(mu, _, _)| *mu),
+            .filter(|p| plottable(p.frequency_hz) && plottable(p.real_part))
+            .map(|p| p.mu),
     )
     .unwrap_or((0.0, 1.0));
     let mut panel = Panel::new("", FREQUENCY_LABEL, REAL_PART_LABEL);
@@ -1890,19 +1887,26 @@ mod tests {
             .collect()
     }
 
-    fn sweep_points(seed: u64, count: usize) -> Vec<(f64, f64, f64)> {
+    fn sweep_points(seed: u64, count: usize) -> Vec<MapPoint> {
         let mut rng = Lcg(seed);
         (0..count)
             .map(|i| {
                 let mu = 0.1 * (1 + i % 9) as f64;
                 let f = 500.0 + 6000.0 * rng.next();
                 let a = 400.0 * (rng.next() - 0.8);
-                match i % 23 {
+                let (mu, f, a) = match i % 23 {
                     5 => (mu, f64::NAN, a),
                     11 => (mu, f, f64::INFINITY),
                     17 => (f64::NAN, f, a), // no mu: still drawn, in grey
                     19 => (mu, f, 1e301),   // beyond the plot limit
                     _ => (mu, f, a),
+                };
+                // The classification is the caller's: here, any positive real part.
+                MapPoint {
+                    mu,
+                    frequency_hz: f,
+                    real_part: a,
+                    unstable: a > 0.0,
                 }
             })
             .collect()
@@ -1915,7 +1919,7 @@ mod tests {
         check_xml(&svg).unwrap();
         let drawable = points
             .iter()
-            .filter(|p| plottable(p.1) && plottable(p.2))
+            .filter(|p| plottable(p.frequency_hz) && plottable(p.real_part))
             .count();
         // i % 23 == 5, 11, 19 are skipped: 18, 17 and 17 of i < 400.
         assert_eq!(drawable, 400 - 18 - 17 - 17);
@@ -1924,7 +1928,7 @@ mod tests {
         // Unstable points are outlined in black, the others in white.
         let unstable = points
             .iter()
-            .filter(|p| plottable(p.1) && plottable(p.2) && is_unstable(p.1, p.2))
+            .filter(|p| plottable(p.frequency_hz) && plottable(p.real_part) && p.unstable)
             .count();
         assert!(unstable > 20);
         let black_group = svg
@@ -1946,13 +1950,13 @@ mod tests {
         let svg = stability_map(&points, "map").to_svg();
         let drawn: Vec<(f64, f64)> = points
             .iter()
-            .filter(|p| plottable(p.1) && plottable(p.2) && !is_unstable(p.1, p.2))
+            .filter(|p| plottable(p.frequency_hz) && plottable(p.real_part) && !p.unstable)
             .chain(
                 points
                     .iter()
-                    .filter(|p| plottable(p.1) && plottable(p.2) && is_unstable(p.1, p.2)),
+                    .filter(|p| plottable(p.frequency_hz) && plottable(p.real_part) && p.unstable),
             )
-            .map(|p| (p.1, p.2))
+            .map(|p| (p.frequency_hz, p.real_part))
             .collect();
         let centres = circle_centres(&svg);
         assert_eq!(centres.len(), drawn.len());
@@ -2179,8 +2183,30 @@ mod tests {
                 2,
             ),
             (stability_map(&[], ""), 0),
-            (stability_map(&[(0.5, 2500.0, 3.0)], "one point"), 1),
-            (stability_map(&[(nan, nan, nan)], "nothing finite"), 0),
+            (
+                stability_map(
+                    &[MapPoint {
+                        mu: 0.5,
+                        frequency_hz: 2500.0,
+                        real_part: 3.0,
+                        unstable: true,
+                    }],
+                    "one point",
+                ),
+                1,
+            ),
+            (
+                stability_map(
+                    &[MapPoint {
+                        mu: nan,
+                        frequency_hz: nan,
+                        real_part: nan,
+                        unstable: false,
+                    }],
+                    "nothing finite",
+                ),
+                0,
+            ),
             (sweep_tracks(&[], ""), 0),
             (
                 sweep_tracks(&[("empty".into(), vec![], true)], "empty track"),
@@ -2241,17 +2267,6 @@ mod tests {
         let shown = tags_of_class(&svg, "legend-mk").len();
         assert!(shown > 5 && shown < 60);
         assert!(svg.contains(&format!("… and {} more", 60 - shown)));
-    }
-
-    #[test]
-    fn instability_needs_a_real_part_above_round_off() {
-        // Round-off of an undamped stable mode at 1 kHz (|lambda| = 6283 1/s): 1e-10 relative.
-        assert!(!is_unstable(1000.0, 6.3e-7));
-        assert!(!is_unstable(1000.0, 0.0));
-        assert!(!is_unstable(1000.0, -3.0));
-        // 0.5 1/s at 1 kHz is a negative damping ratio of 8e-5: squeal.
-        assert!(is_unstable(1000.0, 0.5));
-        assert!(!is_unstable(f64::NAN, 1.0) && !is_unstable(1000.0, f64::NAN));
     }
 
     /// Viridis runs from dark purple to yellow with lightness rising throughout (the

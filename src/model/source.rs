@@ -1,57 +1,11 @@
-//! Where a structural model comes from: a mesh file (Gmsh or Abaqus/CalculiX) or the
-//! built-in brake, plus the supports, materials and loads that go with it.
+//! Where a model comes from when no study file describes it: a mesh file (Gmsh, or an
+//! Abaqus/CalculiX deck with its supports and loads) or the built-in brake, plus the
+//! command line's `--fix` and `--material`.
 
+use super::{Model, ModelError, Pressure};
 use crate::fem::Support;
-use crate::mesh::{abaqus, brake, gmsh, Face, Material, Mesh, MeshError};
-use std::path::{Path, PathBuf};
-
-/// The plain data of a structural model: mesh, supports, loads, and what the file asked for.
-#[derive(Clone, Debug)]
-pub struct StructureModel {
-    /// "built-in brake 'tiny'" or the file name, for messages and reports.
-    pub source: String,
-    pub mesh: Mesh,
-    pub supports: Vec<Support>,
-    /// Pressures on faces (positive pushes into the body).
-    pub pressures: Vec<(Face, f64)>,
-    /// Nodal forces (node, component, value).
-    pub forces: Vec<(usize, usize, f64)>,
-    /// From an Abaqus `*FREQUENCY` step: (number of modes, upper frequency).
-    pub frequency_step: Option<(Option<usize>, Option<f64>)>,
-    pub warnings: Vec<String>,
-}
-
-#[derive(Debug, thiserror::Error)]
-pub enum ModelError {
-    #[error(transparent)]
-    Mesh(#[from] MeshError),
-    #[error("unknown preset '{0}': the built-in brake presets are {presets}", presets = brake::PRESETS.join(", "))]
-    UnknownPreset(String),
-    #[error("built-in brake: {0}")]
-    Brake(#[from] brake::BrakeError),
-    #[error("{file}: unknown mesh format (expected .msh or .inp)")]
-    UnknownFormat { file: PathBuf },
-    #[error("--fix {spec}: {why}")]
-    BadFix { spec: String, why: String },
-    #[error("--material {spec}: {why}")]
-    BadMaterial { spec: String, why: String },
-    #[error("{file}: {why}")]
-    Unsupported { file: PathBuf, why: String },
-}
-
-/// The DOF map of a model on the world communicator, the same on every rank. Collective;
-/// a support naming a node outside the model is an error on every rank.
-pub fn dof_map(
-    comm: crate::petsc::Comm,
-    nodes: usize,
-    supports: &[Support],
-) -> anyhow::Result<crate::fem::DofMap> {
-    super::report::collective(
-        comm,
-        crate::fem::DofMap::new(nodes, 0, supports, comm.size(), comm.rank())
-            .map_err(anyhow::Error::msg),
-    )
-}
+use crate::mesh::{abaqus, brake, gmsh, Material, Mesh};
+use std::path::Path;
 
 /// The built-in brake's supports for a structure without contact: the disc clamped at its
 /// hub, each pad held at its backplate ears (where it bears on the bracket).
@@ -75,36 +29,29 @@ pub fn brake_supports(mesh: &Mesh) -> Vec<Support> {
 }
 
 /// The built-in brake for a preset name.
-pub fn builtin(preset: &str) -> Result<StructureModel, ModelError> {
+pub fn builtin(preset: &str) -> Result<Model, ModelError> {
     let params = brake::preset(preset).ok_or_else(|| ModelError::UnknownPreset(preset.into()))?;
     let mesh = brake::build(&params)?;
-    Ok(StructureModel {
+    Ok(Model {
         source: format!("built-in brake '{preset}'"),
         supports: brake_supports(&mesh),
         mesh,
-        pressures: vec![],
-        forces: vec![],
-        frequency_step: None,
-        warnings: vec![],
+        ..Default::default()
     })
 }
 
 /// Reads a mesh file: `.msh` (Gmsh, no supports or materials of its own) or `.inp`
 /// (Abaqus/CalculiX: materials, sections, the first `*FREQUENCY` step's supports and loads).
-pub fn read(path: &Path) -> Result<StructureModel, ModelError> {
+pub fn read(path: &Path) -> Result<Model, ModelError> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
     match ext.as_deref() {
-        Some("msh") => Ok(StructureModel {
+        Some("msh") => Ok(Model {
             source: path.display().to_string(),
             mesh: gmsh::read(path)?,
-            supports: vec![],
-            pressures: vec![],
-            forces: vec![],
-            frequency_step: None,
-            warnings: vec![],
+            ..Default::default()
         }),
         Some("inp") => from_deck(path, abaqus::read(path)?),
         _ => Err(ModelError::UnknownFormat {
@@ -113,7 +60,7 @@ pub fn read(path: &Path) -> Result<StructureModel, ModelError> {
     }
 }
 
-fn from_deck(path: &Path, deck: abaqus::Deck) -> Result<StructureModel, ModelError> {
+fn from_deck(path: &Path, deck: abaqus::Deck) -> Result<Model, ModelError> {
     // The analysis the deck asks for: its first *FREQUENCY step, else the model data.
     let step = deck
         .steps
@@ -154,10 +101,21 @@ fn from_deck(path: &Path, deck: abaqus::Deck) -> Result<StructureModel, ModelErr
             }),
         }
     }
-    Ok(StructureModel {
+    // One load per face: a deck's net face pressures carry no surface names, and a face's
+    // resultant is exact (summing them per surface would cancel opposite backplates).
+    let pressures = loading
+        .pressures
+        .iter()
+        .map(|(f, p)| Pressure {
+            name: "*DSLOAD".into(),
+            faces: vec![*f],
+            value: *p,
+        })
+        .collect();
+    Ok(Model {
         source: path.display().to_string(),
         supports,
-        pressures: loading.pressures.iter().map(|(f, p)| (*f, *p)).collect(),
+        pressures,
         forces: loading
             .forces
             .iter()
@@ -166,11 +124,12 @@ fn from_deck(path: &Path, deck: abaqus::Deck) -> Result<StructureModel, ModelErr
         frequency_step,
         warnings: deck.warnings.clone(),
         mesh: deck.mesh,
+        ..Default::default()
     })
 }
 
 /// Applies `--fix SET[:xyz]` (components default to all three).
-pub fn add_fix(model: &mut StructureModel, spec: &str) -> Result<(), ModelError> {
+pub fn add_fix(model: &mut Model, spec: &str) -> Result<(), ModelError> {
     let (set, comps) = spec.split_once(':').unwrap_or((spec, "xyz"));
     let mut components = [false; 3];
     for ch in comps.chars() {
@@ -217,7 +176,7 @@ fn find_set(mesh: &Mesh, name: &str) -> Option<Vec<usize>> {
 }
 
 /// Applies `--material PART=E,nu,rho` (defines a material named after the part).
-pub fn add_material(model: &mut StructureModel, spec: &str) -> Result<(), ModelError> {
+pub fn add_material(model: &mut Model, spec: &str) -> Result<(), ModelError> {
     let bad = |why: String| ModelError::BadMaterial {
         spec: spec.into(),
         why,

@@ -1,0 +1,99 @@
+//! A model's PETSc operators: the DOF map (mesh and extra nodes), K with every spring and
+//! coupling on a pattern that also holds every contact point's coupling, M and the load
+//! vector. Made at the last moment, from the plain data of [`Model`].
+
+use super::Model;
+use crate::fem::element::MassRule;
+use crate::fem::springs::{add_coupling_springs, add_ground_springs};
+use crate::fem::{assemble as fem_assemble, AssemblyError, DofError, DofMap, StructureOptions};
+use crate::petsc::{Comm, Matrix, PetscError, Vector};
+
+/// The operators of a model.
+pub struct Operators<'rt> {
+    pub dofs: DofMap,
+    pub stiffness: Matrix<'rt>,
+    pub mass: Matrix<'rt>,
+    pub load: Vector<'rt>,
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum AssembleError {
+    #[error(transparent)]
+    Dofs(#[from] DofError),
+    #[error(transparent)]
+    Assembly(#[from] AssemblyError),
+    #[error(transparent)]
+    Petsc(#[from] PetscError),
+    /// This rank's part went well, another's did not (that rank names the cause).
+    #[error("the assembly failed on another rank (its message is printed there)")]
+    OnAnotherRank,
+}
+
+/// Makes a rank-local result collective: every rank fails when one does.
+fn collective<T, E: Into<AssembleError>>(
+    comm: Comm,
+    local: Result<T, E>,
+) -> Result<T, AssembleError> {
+    let ok = comm.all(local.is_ok());
+    match local {
+        Ok(v) if ok => Ok(v),
+        Ok(_) => Err(AssembleError::OnAnotherRank),
+        Err(e) => Err(e.into()),
+    }
+}
+
+/// The DOF map of a model (mesh and extra nodes), the same on every rank. Collective.
+pub fn dof_map(comm: Comm, model: &Model) -> Result<DofMap, AssembleError> {
+    let local = DofMap::new(
+        model.mesh.nodes.len(),
+        model.extra_nodes.len(),
+        &model.supports,
+        comm.size(),
+        comm.rank(),
+    );
+    collective(comm, local)
+}
+
+/// Assembles a model's operators. Collective; errors are collective.
+pub fn assemble<'rt>(
+    comm: Comm<'rt>,
+    model: &Model,
+    mass_rule: MassRule,
+) -> Result<Operators<'rt>, AssembleError> {
+    let mesh = &model.mesh;
+    let dofs = dof_map(comm, model)?;
+    let contact = crate::contact::contact_groups(&model.pairs);
+    let couplings: Vec<Vec<usize>> = model.couplings.iter().map(|c| c.nodes()).collect();
+    let pattern = fem_assemble::pattern(
+        &dofs,
+        mesh.elements
+            .iter()
+            .map(|c| &c[..])
+            .chain(contact.iter().map(|g| &g[..]))
+            .chain(couplings.iter().map(|g| &g[..])),
+    );
+    let (mut stiffness, mass) = collective(
+        comm,
+        fem_assemble::stiffness_and_mass(
+            comm,
+            mesh,
+            &dofs,
+            &pattern,
+            StructureOptions { mass_rule },
+        ),
+    )?;
+    add_ground_springs(&mut stiffness, &dofs, &model.springs)?;
+    if !model.couplings.is_empty() {
+        add_coupling_springs(&mut stiffness, &dofs, &model.couplings)?;
+    }
+    let load = collective(
+        comm,
+        fem_assemble::load_vector(comm, mesh, &dofs, &model.pressure_faces(), &model.forces),
+    )?;
+    Ok(Operators {
+        dofs,
+        stiffness,
+        mass,
+        load,
+    })
+}

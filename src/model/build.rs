@@ -1,0 +1,201 @@
+//! A model from a study's tables ([`ModelSpec`]): the mesh (file or built-in brake), then
+//! materials, supports, springs, pressures and contact pairs resolved by name against it.
+//! A deck named as the mesh brings its own supports, loads and warnings along; the
+//! study's tables add to them.
+
+use super::spec::{ModelSpec, SpringDirection};
+use super::{source, Model, ModelError, Pressure};
+use crate::contact::{self, PairSettings, SearchOptions};
+use crate::fem::springs::GroundSpring;
+use crate::fem::Support;
+use crate::mesh::{brake, Material, Mesh};
+use std::collections::BTreeMap;
+
+/// A named item, matched exactly or else ignoring case: Abaqus names are case-insensitive
+/// (a deck's reader keeps them upper-case), and a study written for the built-in brake's
+/// lower-case names must find the same sets in a deck of it.
+fn named<'m, T>(map: &'m BTreeMap<String, T>, name: &str) -> Option<&'m T> {
+    map.get(name).or_else(|| {
+        map.iter()
+            .find(|(k, _)| k.eq_ignore_ascii_case(name))
+            .map(|(_, v)| v)
+    })
+}
+
+fn set_nodes(mesh: &Mesh, name: &str) -> Option<Vec<usize>> {
+    named(&mesh.node_sets, name)
+        .cloned()
+        .or_else(|| named(&mesh.surfaces, name).map(|s| mesh.surface_nodes(s)))
+}
+
+impl Model {
+    /// Builds the model a study describes. Errors name the study key at fault (the caller
+    /// adds the file).
+    pub fn from_spec(spec: &ModelSpec) -> Result<Model, ModelError> {
+        let mut model = match &spec.mesh.file {
+            Some(path) => {
+                let mut m = source::read(path)?;
+                let from_deck = m.supports.len() + m.pressures.len() + m.forces.len();
+                if from_deck > 0 {
+                    m.warnings.push(format!(
+                        "{}: kept the deck's {} supports, {} loaded faces and {} nodal forces \
+                         (the study's tables add to them)",
+                        m.source,
+                        m.supports.len(),
+                        m.pressures.len(),
+                        m.forces.len()
+                    ));
+                }
+                m.frequency_step = None;
+                m
+            }
+            None => {
+                let preset = spec.mesh.preset.as_deref().unwrap_or("small");
+                let params = match &spec.mesh.brake {
+                    Some(p) => p.clone(),
+                    None => brake::preset(preset).ok_or_else(|| ModelError::Invalid {
+                        key: "mesh.preset".into(),
+                        why: format!(
+                            "unknown preset '{preset}' (presets: {})",
+                            brake::PRESETS.join(", ")
+                        ),
+                    })?,
+                };
+                let mesh = brake::build(&params).map_err(|source| ModelError::BrakeParams {
+                    key: "mesh.brake".into(),
+                    source,
+                })?;
+                Model {
+                    source: format!("built-in brake '{preset}'"),
+                    mesh,
+                    ..Default::default()
+                }
+            }
+        };
+        add_materials(&mut model, spec)?;
+        let source_name = model.source.clone();
+        let missing = |key: String, name: &str, what: &'static str| ModelError::Missing {
+            key,
+            what,
+            name: name.to_string(),
+            source_name: source_name.clone(),
+        };
+        let mesh = &model.mesh;
+        for (i, s) in spec.supports.iter().enumerate() {
+            let nodes = set_nodes(mesh, &s.set)
+                .ok_or_else(|| missing(format!("supports[{i}].set"), &s.set, "node set"))?;
+            let c = s.components.to_ascii_lowercase();
+            model.supports.push(Support {
+                name: s.set.clone(),
+                nodes,
+                components: [c.contains('x'), c.contains('y'), c.contains('z')],
+            });
+        }
+        for (i, s) in spec.springs.iter().enumerate() {
+            let nodes = set_nodes(mesh, &s.set)
+                .ok_or_else(|| missing(format!("springs[{i}].set"), &s.set, "node set"))?;
+            model.springs.extend(ground_springs(mesh, &nodes, s, i)?);
+        }
+        for (i, p) in spec.pressures.iter().enumerate() {
+            let surface = named(&mesh.surfaces, &p.surface)
+                .ok_or_else(|| missing(format!("pressures[{i}].surface"), &p.surface, "surface"))?;
+            model.pressures.push(Pressure {
+                name: p.surface.clone(),
+                faces: surface.faces.clone(),
+                value: p.value,
+            });
+        }
+        for (i, c) in spec.contacts.iter().enumerate() {
+            let slave = named(&mesh.surfaces, &c.slave)
+                .ok_or_else(|| missing(format!("contacts[{i}].slave"), &c.slave, "surface"))?;
+            let master = named(&mesh.surfaces, &c.master)
+                .ok_or_else(|| missing(format!("contacts[{i}].master"), &c.master, "surface"))?;
+            let settings = PairSettings {
+                name: c.name.clone(),
+                friction: c.friction,
+                penalty: c.penalty,
+                separation: c.separation,
+                sliding: c.sliding.clone(),
+            };
+            let pair =
+                contact::node_to_surface(mesh, slave, master, settings, &SearchOptions::default())
+                    .map_err(|source| ModelError::Contact {
+                        key: format!("contacts[{i}]"),
+                        name: c.name.clone(),
+                        source: Box::new(source),
+                    })?;
+            model.pairs.push(pair);
+            model.swept.push(c.sweep);
+        }
+        Ok(model)
+    }
+}
+
+/// The study's materials, each given to the part of its name.
+fn add_materials(model: &mut Model, spec: &ModelSpec) -> Result<(), ModelError> {
+    for (i, m) in spec.materials.iter().enumerate() {
+        let part = model
+            .mesh
+            .parts
+            .iter_mut()
+            .find(|p| p.name == m.part || p.name.eq_ignore_ascii_case(&m.part))
+            .ok_or_else(|| ModelError::Invalid {
+                key: format!("materials[{i}].part"),
+                why: format!("no part named '{}'", m.part),
+            })?;
+        let name = part.name.clone();
+        part.material = Some(name.clone());
+        model.mesh.materials.insert(
+            name.clone(),
+            Material {
+                name,
+                young: m.young,
+                poisson: m.poisson,
+                density: m.density,
+            },
+        );
+    }
+    Ok(())
+}
+
+/// A spring set's stiffness shared equally by its nodes, each along the set's direction
+/// there (fixed, or radial/circumferential about the disc axis, z through the origin).
+fn ground_springs(
+    mesh: &Mesh,
+    nodes: &[usize],
+    s: &super::spec::SpringSpec,
+    i: usize,
+) -> Result<Vec<GroundSpring>, ModelError> {
+    let each = s.stiffness / nodes.len() as f64;
+    let mut springs = Vec::with_capacity(nodes.len());
+    for &n in nodes {
+        let x = mesh.nodes[n];
+        let r = (x[0] * x[0] + x[1] * x[1]).sqrt();
+        let direction = match &s.direction {
+            SpringDirection::Vector(v) => {
+                let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+                if l == 0.0 {
+                    return Err(ModelError::Invalid {
+                        key: format!("springs[{i}].direction"),
+                        why: "zero vector".into(),
+                    });
+                }
+                v.map(|c| c / l)
+            }
+            SpringDirection::Radial if r > 0.0 => [x[0] / r, x[1] / r, 0.0],
+            SpringDirection::Circumferential if r > 0.0 => [-x[1] / r, x[0] / r, 0.0],
+            _ => {
+                return Err(ModelError::Invalid {
+                    key: format!("springs[{i}]"),
+                    why: "node on the disc axis has no radial direction".into(),
+                })
+            }
+        };
+        springs.push(GroundSpring {
+            node: n,
+            direction,
+            stiffness: each,
+        });
+    }
+    Ok(springs)
+}

@@ -1,0 +1,121 @@
+//! THE MODEL as plain data: the mesh with its materials, supports, springs, loads, contact
+//! pairs, and the extra nodes and coupling springs the reduction layer adds. One type for
+//! every kind of model squeal analyses (the full reference model, a reduced-interface
+//! model), built from a study file ([`Model::from_spec`]), a mesh or deck file
+//! ([`source::read`]) or the built-in brake ([`source::builtin`]), and turned into PETSc
+//! operators at the last moment by [`assemble::assemble`]. Same on every rank.
+
+pub mod assemble;
+mod build;
+mod error;
+pub mod source;
+pub mod spec;
+
+pub use assemble::{assemble, Operators};
+pub use error::ModelError;
+
+use crate::contact::ContactPair;
+use crate::fem::springs::{CouplingSpring, GroundSpring};
+use crate::fem::Support;
+use crate::mesh::{Face, Mesh};
+
+/// A uniform pressure on a set of faces (positive pushes into the body).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Pressure {
+    /// The surface's name, or where the load came from (a deck's `*DSLOAD`).
+    pub name: String,
+    pub faces: Vec<Face>,
+    pub value: f64,
+}
+
+/// A structural model with its contact interfaces.
+#[derive(Clone, Debug, Default)]
+pub struct Model {
+    /// "built-in brake 'tiny'" or the file name, for messages and reports.
+    pub source: String,
+    pub mesh: Mesh,
+    /// Nodes in no element, numbered after the mesh nodes (the reduced contact nodes and
+    /// their disc-side partners): their positions.
+    pub extra_nodes: Vec<[f64; 3]>,
+    pub supports: Vec<Support>,
+    pub springs: Vec<GroundSpring>,
+    /// Springs tying a node to a weighted combination of nodes (distributing couplings).
+    pub couplings: Vec<CouplingSpring>,
+    pub pressures: Vec<Pressure>,
+    /// Nodal forces (node, component, value).
+    pub forces: Vec<(usize, usize, f64)>,
+    pub pairs: Vec<ContactPair>,
+    /// Which pairs a friction sweep sets mu on (one flag per pair).
+    pub swept: Vec<bool>,
+    /// From an Abaqus `*FREQUENCY` step: (number of modes, upper frequency).
+    pub frequency_step: Option<(Option<usize>, Option<f64>)>,
+    /// What a reader or builder noticed and did not refuse.
+    pub warnings: Vec<String>,
+}
+
+impl Model {
+    /// Mesh nodes and extra nodes.
+    pub fn node_count(&self) -> usize {
+        self.mesh.nodes.len() + self.extra_nodes.len()
+    }
+
+    /// Position of any node, mesh or extra.
+    pub fn position(&self, node: usize) -> [f64; 3] {
+        let n = self.mesh.nodes.len();
+        if node < n {
+            self.mesh.nodes[node]
+        } else {
+            self.extra_nodes[node - n]
+        }
+    }
+
+    /// Every loaded face with its pressure.
+    pub fn pressure_faces(&self) -> Vec<(Face, f64)> {
+        self.pressures
+            .iter()
+            .flat_map(|p| p.faces.iter().map(move |f| (*f, p.value)))
+            .collect()
+    }
+
+    /// The resultant of each pressure load, |sum of its consistent nodal forces|, summed
+    /// over the loads: what the contact interfaces must carry in all (each pad carries its
+    /// own side's load, so the magnitudes add).
+    pub fn applied_load(&self) -> f64 {
+        self.pressures
+            .iter()
+            .map(|p| {
+                let r = crate::fem::loads::pressure_resultant(&self.mesh, &p.faces, p.value);
+                (r[0] * r[0] + r[1] * r[1] + r[2] * r[2]).sqrt()
+            })
+            .sum()
+    }
+
+    /// Sets mu on the swept pairs.
+    pub fn set_swept_friction(&mut self, mu: f64) {
+        for (pair, &swept) in self.pairs.iter_mut().zip(&self.swept) {
+            if swept {
+                pair.settings.friction = mu;
+            }
+        }
+    }
+
+    /// The nodes of the swept pairs' contact points (slave and master side), sorted: where
+    /// the friction coupling happens, and where mode shapes are compared for tracking.
+    pub fn swept_nodes(&self) -> Vec<usize> {
+        let mut nodes: Vec<usize> = self
+            .pairs
+            .iter()
+            .zip(&self.swept)
+            .filter(|(_, &s)| s)
+            .flat_map(|(p, _)| {
+                p.points
+                    .iter()
+                    .flat_map(|pt| pt.slave.iter().chain(&pt.master))
+            })
+            .map(|&(n, _)| n)
+            .collect();
+        nodes.sort_unstable();
+        nodes.dedup();
+        nodes
+    }
+}

@@ -1,0 +1,113 @@
+//! The model as a user describes it in a study file: mesh source, materials, supports,
+//! springs, pressures and contact pairs, by name. Plain serde data; the study file embeds
+//! these tables and [`crate::model::Model::from_spec`] resolves the names against the mesh.
+
+use crate::contact::SlidingDirection;
+use crate::mesh::brake::BrakeParams;
+use std::path::PathBuf;
+
+/// The model tables of a study, borrowed from it.
+#[derive(Clone, Copy, Debug)]
+pub struct ModelSpec<'a> {
+    pub mesh: &'a MeshSpec,
+    pub materials: &'a [MaterialSpec],
+    pub supports: &'a [SupportSpec],
+    pub springs: &'a [SpringSpec],
+    pub pressures: &'a [PressureSpec],
+    pub contacts: &'a [ContactSpec],
+}
+
+/// Where the mesh comes from: a file, or the built-in brake (a preset, optionally with
+/// changed parameters).
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MeshSpec {
+    /// A .msh or .inp file, relative to the study file.
+    pub file: Option<PathBuf>,
+    /// Built-in brake preset (tiny, small, medium, industrial); default small.
+    pub preset: Option<String>,
+    /// Built-in brake parameters (replace the preset's).
+    pub brake: Option<BrakeParams>,
+}
+
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialSpec {
+    pub part: String,
+    pub young: f64,
+    pub poisson: f64,
+    pub density: f64,
+}
+
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SupportSpec {
+    /// Node set (or surface) name.
+    pub set: String,
+    /// Held components, e.g. "xyz" or "z".
+    #[serde(default = "all_components")]
+    pub components: String,
+}
+
+fn all_components() -> String {
+    "xyz".into()
+}
+
+/// Direction of a spring to ground.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SpringDirection {
+    /// A fixed vector.
+    Vector([f64; 3]),
+    /// Radial from the disc axis (z through the origin) at each node.
+    Radial,
+    /// Circumferential about the disc axis at each node (the normal of a radial plane such
+    /// as a pad abutment).
+    Circumferential,
+}
+
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SpringSpec {
+    pub set: String,
+    pub direction: SpringDirection,
+    /// Total stiffness of the set (N/m), shared equally by its nodes.
+    pub stiffness: f64,
+}
+
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PressureSpec {
+    pub surface: String,
+    /// Pa (positive pushes into the body).
+    pub value: f64,
+}
+
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactSpec {
+    pub name: String,
+    /// Slave surface (the pad).
+    pub slave: String,
+    /// Master surface (the disc).
+    pub master: String,
+    pub friction: f64,
+    /// Penalty per unit area; default 10 E_min / h.
+    pub penalty: Option<f64>,
+    #[serde(default = "yes")]
+    pub separation: bool,
+    /// Friction direction: disc rotation, fixed, or none.
+    #[serde(default = "no_sliding")]
+    pub sliding: SlidingDirection,
+    /// Whether the friction sweep sets this pair's mu.
+    #[serde(default)]
+    pub sweep: bool,
+}
+
+fn yes() -> bool {
+    true
+}
+
+fn no_sliding() -> SlidingDirection {
+    SlidingDirection::None
+}

@@ -1,0 +1,282 @@
+//! A [`Model`] solved with PETSc at each friction value: the full reference model, or a
+//! reduced-interface model (a full-size model whose disc/pad interface is reduced). SNES
+//! gives the sliding equilibrium, SLEPc the CEA about it.
+
+use super::output::{ModelInfo, PairReport, SweepPointReport};
+use super::{FrictionModel, PointFields, PointOutcome, UnstableShape};
+use crate::analysis::cea::{self, CeaOptions, RayleighDamping};
+use crate::analysis::restraint::{self, Body};
+use crate::analysis::statics::{self, StaticOptions, StaticProblem};
+use crate::contact;
+use crate::mesh::Mesh;
+use crate::model::{self, Model, Operators};
+use crate::petsc::{Comm, Matrix};
+use crate::study::bench::peak_rss_mib;
+use crate::study::config::Study;
+use crate::study::report::collective;
+use anyhow::Context;
+use num_complex::Complex64;
+use std::time::Instant;
+
+/// A model with its operators, ready for a sweep.
+pub struct FullModel<'rt> {
+    pub model: Model,
+    operators: Operators<'rt>,
+    damping: Option<Matrix<'rt>>,
+    bodies: Vec<Body>,
+    /// Equations on which mode shapes are compared for tracking: every DOF of the swept
+    /// pairs' nodes (where the friction coupling happens).
+    tracked_equations: Vec<usize>,
+    cea: CeaOptions,
+    rayleigh: Option<RayleighDamping>,
+    increments: usize,
+    ranks: usize,
+    /// The previous point's equilibrium (warm start).
+    previous: Option<Vec<[f64; 3]>>,
+}
+
+impl<'rt> FullModel<'rt> {
+    /// Builds and assembles the model of a study (collective; errors name the study file
+    /// and key).
+    pub fn from_study(comm: Comm<'rt>, study: &Study, file: &str) -> anyhow::Result<Self> {
+        let model = collective(
+            comm,
+            Model::from_spec(&study.model_spec()).map_err(|e| anyhow::anyhow!("{file}: {e}")),
+        )?;
+        if comm.rank() == 0 {
+            for w in &model.warnings {
+                tracing::warn!("{w}");
+            }
+        }
+        let operators = model::assemble(comm, &model, study.analysis.mass_rule)?;
+        let damping = match study.analysis.damping {
+            Some(d) => Some(d.matrix(&operators.stiffness, &operators.mass)?),
+            None => None,
+        };
+        let cea = CeaOptions {
+            max_frequency_hz: study.analysis.max_frequency_hz,
+            unstable_threshold: study.analysis.unstable_threshold,
+            modes_per_target: study.analysis.window,
+            ..Default::default()
+        };
+        let mut full = Self::new(comm, model, operators, cea, study.analysis.increments);
+        if let (Some(rayleigh), Some(matrix)) = (study.analysis.damping, damping) {
+            full = full.with_damping(rayleigh, matrix);
+        }
+        Ok(full)
+    }
+
+    /// A model already assembled, with the CEA settings and load increments to use.
+    pub fn new(
+        comm: Comm<'rt>,
+        model: Model,
+        operators: Operators<'rt>,
+        cea: CeaOptions,
+        increments: usize,
+    ) -> Self {
+        let dofs = &operators.dofs;
+        let tracked_equations = model
+            .swept_nodes()
+            .iter()
+            .flat_map(|&n| (0..3).filter_map(move |c| dofs.equation(n, c)))
+            .collect();
+        FullModel {
+            bodies: restraint::bodies(&model.mesh),
+            model,
+            operators,
+            damping: None,
+            tracked_equations,
+            cea,
+            rayleigh: None,
+            increments,
+            ranks: comm.size(),
+            previous: None,
+        }
+    }
+
+    /// Rayleigh damping: the CEA becomes the quadratic problem with C.
+    pub fn with_damping(mut self, rayleigh: RayleighDamping, matrix: Matrix<'rt>) -> Self {
+        self.rayleigh = Some(rayleigh);
+        self.damping = Some(matrix);
+        self
+    }
+}
+
+impl<'rt> FrictionModel<'rt> for FullModel<'rt> {
+    fn info(&self) -> ModelInfo {
+        let mesh = &self.model.mesh;
+        ModelInfo {
+            source: self.model.source.clone(),
+            nodes: self.model.node_count(),
+            elements: mesh.elements.len(),
+            equations: self.operators.dofs.equations(),
+            ranks: self.ranks,
+            pairs: self
+                .model
+                .pairs
+                .iter()
+                .map(|p| p.settings.name.clone())
+                .collect(),
+            contact_points: self.model.pairs.iter().map(|p| p.points.len()).sum(),
+            applied_load: self.model.applied_load(),
+            max_frequency_hz: self.cea.max_frequency_hz,
+            damping: self.rayleigh,
+        }
+    }
+
+    fn mesh(&self) -> &Mesh {
+        &self.model.mesh
+    }
+
+    fn solve_point(&mut self, comm: Comm<'rt>, mu: f64) -> anyhow::Result<PointOutcome> {
+        let root = comm.rank() == 0;
+        let t = Instant::now();
+        self.model.set_swept_friction(mu);
+        let Operators {
+            dofs,
+            stiffness: k,
+            mass: m,
+            load,
+        } = &mut self.operators;
+        let t_static = Instant::now();
+        let problem = StaticProblem {
+            dofs,
+            stiffness: k,
+            load,
+            pairs: &self.model.pairs,
+            bodies: &self.bodies,
+        };
+        let equilibrium = statics::solve(
+            comm,
+            &problem,
+            self.previous.as_deref(),
+            &StaticOptions {
+                increments: self.increments,
+                ..Default::default()
+            },
+        )
+        .with_context(|| format!("static equilibrium at mu = {mu}"))?;
+        let u = &equilibrium.displacement;
+        let mut contact_reports = Vec::new();
+        let mut normal_total = 0.0;
+        for pair in &self.model.pairs {
+            let s = contact::summarize(pair, u)?;
+            normal_total += s.normal_force;
+            contact_reports.push(PairReport::new(&pair.settings.name, &s));
+        }
+        let static_seconds = t_static.elapsed().as_secs_f64();
+        tracing::debug!(
+            "after the static solve: peak memory {:.0} MiB on this rank",
+            peak_rss_mib()
+        );
+        let t_cea = Instant::now();
+        // K_t = K + dF_c/dU is formed in K itself and taken out after the CEA: on the
+        // industrial preset a separate tangent is 0.5 GB more at the memory peak, and K
+        // comes back to within one rounding per entry, far below anything the next static
+        // solve resolves.
+        statics::add_contact_tangent(comm, k, dofs, &self.model.pairs, u, 1.0)?;
+        let result = collective(
+            comm,
+            cea::solve(comm, k, m, self.damping.as_ref(), &self.cea),
+        );
+        statics::add_contact_tangent(comm, k, dofs, &self.model.pairs, u, -1.0)?;
+        let result = result?;
+        let cea_seconds = t_cea.elapsed().as_secs_f64();
+        // Friction moves modes little from one point to the next: the next CEA sizes its
+        // first window on this one's count.
+        self.cea.expected_modes = Some(result.modes.len());
+        // Shapes to rank 0: restricted for tracking; full for the unstable ones' VTU.
+        let mut tracking_shapes = Vec::with_capacity(result.shapes.len());
+        let mut unstable = Vec::new();
+        for (mode, (re, im)) in result.modes.iter().zip(&result.shapes) {
+            let (re, im) = (re.gather_to_zero()?, im.gather_to_zero()?);
+            if root {
+                tracking_shapes.push(
+                    self.tracked_equations
+                        .iter()
+                        .map(|&e| Complex64::new(re[e], im[e]))
+                        .collect::<Vec<_>>(),
+                );
+                if mode.unstable {
+                    unstable.push(UnstableShape {
+                        mode: mode.clone(),
+                        re: mesh_part(dofs.displacements(&re), &self.model.mesh),
+                        im: mesh_part(dofs.displacements(&im), &self.model.mesh),
+                    });
+                }
+            }
+        }
+        // Peak resident memory so far (VmHWM), largest rank and all ranks together.
+        let mut peak = [peak_rss_mib()];
+        let mut peak_sum = peak;
+        comm.max_in_place(&mut peak);
+        comm.sum_in_place(&mut peak_sum);
+        let applied = self.model.applied_load();
+        let report = SweepPointReport {
+            friction: mu,
+            static_iterations: equilibrium.increments.iter().map(|i| i.iterations).sum(),
+            static_factorizations: equilibrium
+                .increments
+                .iter()
+                .map(|i| i.factorizations)
+                .sum(),
+            static_residuals: equilibrium
+                .increments
+                .last()
+                .map(|i| i.residual_history.clone())
+                .unwrap_or_default(),
+            cutbacks: equilibrium.cutbacks.len(),
+            contact: contact_reports,
+            balance_ratio: if applied > 0.0 {
+                normal_total / applied
+            } else {
+                0.0
+            },
+            eigenvalues: result.modes.clone(),
+            static_seconds,
+            cea_seconds,
+            cea_shifts: result.targets.len(),
+            seconds: t.elapsed().as_secs_f64(),
+            peak_rss_mib_max_rank: peak[0],
+            peak_rss_mib_all_ranks: peak_sum[0],
+        };
+        let fields = root.then(|| point_fields(&self.model, &equilibrium, unstable));
+        self.previous = Some(equilibrium.displacement);
+        Ok(PointOutcome {
+            report,
+            tracking_shapes,
+            fields,
+        })
+    }
+}
+
+/// The mesh nodes' values of a field over all nodes (extra nodes are not drawn).
+fn mesh_part(mut values: Vec<[f64; 3]>, mesh: &Mesh) -> Vec<[f64; 3]> {
+    values.truncate(mesh.nodes.len());
+    values
+}
+
+/// The static displacement and each slave node's contact pressure and state.
+fn point_fields(
+    model: &Model,
+    equilibrium: &statics::StaticSolution,
+    unstable: Vec<UnstableShape>,
+) -> PointFields {
+    let n = model.mesh.nodes.len();
+    let mut contact_pressure = vec![0.0; n];
+    let mut contact_closed = vec![-1.0; n];
+    for (pair, states) in model.pairs.iter().zip(&equilibrium.contact) {
+        for (pt, s) in pair.points.iter().zip(states) {
+            if pt.slave_node < n {
+                contact_pressure[pt.slave_node] = s.pressure;
+                contact_closed[pt.slave_node] = if s.closed { 1.0 } else { 0.0 };
+            }
+        }
+    }
+    PointFields {
+        static_displacement: mesh_part(equilibrium.displacement.clone(), &model.mesh),
+        contact_pressure,
+        contact_closed,
+        unstable,
+    }
+}

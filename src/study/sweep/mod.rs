@@ -1,0 +1,203 @@
+//! `squeal sweep`: a friction sweep over any kind of model (METHOD §2-§4). For each mu the
+//! model gives its sliding equilibrium and complex modes ([`FrictionModel::solve_point`]);
+//! the sweep tracks the modes across mu, finds the instabilities (coupled pairs) and writes
+//! the results: a table, sweep.json, per-mu cea.json/csv/vtu and the stability plots.
+//!
+//! The full reference model and a reduced-interface model are both a [`crate::model::Model`]
+//! solved with PETSc ([`FullModel`]); the dense super-element assembly implements the same
+//! trait, so every kind of model goes through the same tracking, reports and outputs and
+//! `squeal compare` reads their folders alike.
+
+mod full;
+mod output;
+
+pub use full::FullModel;
+pub use output::{ModelInfo, PairReport, SweepPointReport};
+
+use super::config::Study;
+use super::report::{collective, write_atomically};
+use crate::analysis::cea::ComplexMode;
+use crate::analysis::tracking::{self, Instability, SweepPoint, TrackingOptions};
+use crate::mesh::Mesh;
+use crate::petsc::{Comm, Runtime};
+use num_complex::Complex64;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// An unstable mode with its shape on every mesh node (real and imaginary parts).
+#[derive(Clone, Debug)]
+pub struct UnstableShape {
+    pub mode: ComplexMode,
+    pub re: Vec<[f64; 3]>,
+    pub im: Vec<[f64; 3]>,
+}
+
+/// Fields on the mesh nodes for a point's VTU file.
+#[derive(Clone, Debug, Default)]
+pub struct PointFields {
+    pub static_displacement: Vec<[f64; 3]>,
+    /// Contact pressure at each slave node (0 elsewhere).
+    pub contact_pressure: Vec<f64>,
+    /// 1 closed, 0 open at each slave node, -1 elsewhere.
+    pub contact_closed: Vec<f64>,
+    pub unstable: Vec<UnstableShape>,
+}
+
+/// One friction value's results from any kind of model.
+pub struct PointOutcome {
+    pub report: SweepPointReport,
+    /// Each mode's shape on the tracked DOFs (the same DOFs, in the same order, at every
+    /// point of a sweep); filled on rank 0, empty elsewhere.
+    pub tracking_shapes: Vec<Vec<Complex64>>,
+    /// Rank 0: what to draw on the mesh (`None` on other ranks).
+    pub fields: Option<PointFields>,
+}
+
+/// What a friction sweep needs of a model. Every method is collective.
+pub trait FrictionModel<'rt> {
+    /// Sizes and settings for the report.
+    fn info(&self) -> ModelInfo;
+    /// The mesh the fields of [`PointOutcome::fields`] live on.
+    fn mesh(&self) -> &Mesh;
+    /// The equilibrium and the CEA at friction `mu`, warm-started from the previous point.
+    fn solve_point(&mut self, comm: Comm<'rt>, mu: f64) -> anyhow::Result<PointOutcome>;
+}
+
+/// What a sweep runs and where it writes.
+#[derive(Clone, Debug)]
+pub struct SweepPlan {
+    pub friction: Vec<f64>,
+    /// The CEA's classification threshold (see [`crate::analysis::cea::CeaOptions`]), also
+    /// the tracking's: one decision of "unstable" everywhere.
+    pub unstable_threshold: f64,
+    pub output: PathBuf,
+}
+
+/// What a finished sweep found (rank 0; empty on other ranks).
+#[derive(Clone, Debug, Default)]
+pub struct SweepSummary {
+    pub points: Vec<SweepPointReport>,
+    pub instabilities: Vec<Instability>,
+}
+
+/// `squeal sweep`: the study file (or the built-in study) with the command line's changes.
+/// Collective.
+pub fn run_command(
+    rt: &Runtime,
+    file: Option<&Path>,
+    preset: Option<String>,
+    friction: Option<Vec<f64>>,
+    max_frequency_hz: Option<f64>,
+    output: Option<PathBuf>,
+    write_study: Option<&Path>,
+) -> anyhow::Result<()> {
+    let comm = rt.world();
+    let (mut study, name) = match file {
+        Some(path) => (
+            collective(comm, Study::read(path))?,
+            path.display().to_string(),
+        ),
+        None => (
+            Study::builtin(preset.as_deref().unwrap_or("small")),
+            "built-in study".to_string(),
+        ),
+    };
+    if let Some(p) = preset {
+        if study.mesh.file.is_none() {
+            study.mesh.preset = Some(p);
+        }
+    }
+    if let Some(f) = friction {
+        study.analysis.friction = f;
+    }
+    if let Some(f) = max_frequency_hz {
+        study.analysis.max_frequency_hz = f;
+    }
+    if let Some(o) = output {
+        study.output = o;
+    }
+    collective(comm, study.check(Path::new(&name)))?;
+    if let Some(path) = write_study {
+        if comm.rank() == 0 {
+            write_atomically(path, toml::to_string_pretty(&study)?.as_bytes())?;
+            println!("wrote {}", path.display());
+        }
+        return Ok(());
+    }
+    run(rt, &study, &name).map(|_| ())
+}
+
+/// Runs the sweep of a study on its full model (collective); rank 0 prints and writes.
+pub fn run(rt: &Runtime, study: &Study, file: &str) -> anyhow::Result<SweepSummary> {
+    let comm = rt.world();
+    let mut model = FullModel::from_study(comm, study, file)?;
+    let plan = SweepPlan {
+        friction: study.analysis.friction.clone(),
+        unstable_threshold: study.analysis.unstable_threshold,
+        output: study.output.clone(),
+    };
+    sweep(comm, &mut model, &plan)
+}
+
+/// The friction sweep of any model (collective); rank 0 prints and writes.
+pub fn sweep<'rt>(
+    comm: Comm<'rt>,
+    model: &mut dyn FrictionModel<'rt>,
+    plan: &SweepPlan,
+) -> anyhow::Result<SweepSummary> {
+    let root = comm.rank() == 0;
+    let started = Instant::now();
+    let info = model.info();
+    if root {
+        tracing::info!("{}", info.describe());
+    }
+    let mut reports = Vec::new();
+    let mut points = Vec::new();
+    let total = plan.friction.len();
+    for (step, &mu) in plan.friction.iter().enumerate() {
+        let outcome = model.solve_point(comm, mu)?;
+        let report = outcome.report;
+        if root {
+            tracing::info!("mu {mu:.2} ({}/{total}): {}", step + 1, report.log_line());
+            let dir = plan.output.join(format!("mu_{mu:.3}"));
+            output::write_point(&dir, model.mesh(), outcome.fields.as_ref(), &report, &info)?;
+            points.push(SweepPoint {
+                mu,
+                eigenvalues: report.eigenvalues.iter().map(|m| m.lambda).collect(),
+                shapes: outcome.tracking_shapes,
+            });
+        }
+        reports.push(report);
+    }
+    if !root {
+        return Ok(SweepSummary::default());
+    }
+    let tracks = tracking::track(&points, &TrackingOptions::default())?;
+    let instabilities = tracking::instabilities(
+        &points,
+        &tracks,
+        &tracking::InstabilityOptions {
+            real_part_tolerance: plan.unstable_threshold,
+            ..Default::default()
+        },
+    )?;
+    output::write_sweep(
+        &plan.output,
+        &info,
+        &reports,
+        &points,
+        &tracks,
+        &instabilities,
+    )?;
+    print!("{}", output::summary_table(&reports, &instabilities));
+    println!(
+        "{} friction values in {:.1} s; results in {}",
+        reports.len(),
+        started.elapsed().as_secs_f64(),
+        plan.output.display()
+    );
+    Ok(SweepSummary {
+        points: reports,
+        instabilities,
+    })
+}

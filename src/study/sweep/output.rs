@@ -1,0 +1,290 @@
+//! What a sweep writes and prints: per point cea.json/csv and cea.vtu, then sweep.json, the
+//! stability map and the tracked-mode plot, and the summary table. Rank 0 only.
+
+use super::PointFields;
+use crate::analysis::cea::{ComplexMode, RayleighDamping};
+use crate::analysis::tracking::{self, Instability, SweepPoint, Track};
+use crate::contact::PairSummary;
+use crate::mesh::vtu::{Field, VtuWriter};
+use crate::mesh::Mesh;
+use crate::study::report::write_atomically;
+use std::path::Path;
+
+/// One friction value's results, as written to sweep.json.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct SweepPointReport {
+    pub friction: f64,
+    pub static_iterations: usize,
+    /// Tangents factorised by the static solve (other iterations kept one inside GMRES).
+    pub static_factorizations: usize,
+    pub static_residuals: Vec<f64>,
+    pub cutbacks: usize,
+    /// Per pair: name, closed points, total normal force, |friction force|, pressure range.
+    pub contact: Vec<PairReport>,
+    /// Sum of contact normal forces over the applied pressure resultant (1 when the pads
+    /// carry the whole brake load).
+    pub balance_ratio: f64,
+    pub eigenvalues: Vec<ComplexMode>,
+    pub static_seconds: f64,
+    pub cea_seconds: f64,
+    /// Shift-and-invert targets the CEA used.
+    pub cea_shifts: usize,
+    pub seconds: f64,
+    /// Peak resident memory (VmHWM) up to this point: the largest rank's and the sum, MiB.
+    pub peak_rss_mib_max_rank: f64,
+    pub peak_rss_mib_all_ranks: f64,
+}
+
+impl SweepPointReport {
+    /// The per-point log line.
+    pub fn log_line(&self) -> String {
+        format!(
+            "static {} Newton iterations, {} factorisations ({:.1} s), balance {:.6}; CEA {} modes, {} unstable, {} shifts ({:.1} s); {:.1} s, peak memory {:.0} MiB (all ranks)",
+            self.static_iterations,
+            self.static_factorizations,
+            self.static_seconds,
+            self.balance_ratio,
+            self.eigenvalues.len(),
+            self.eigenvalues.iter().filter(|m| m.unstable).count(),
+            self.cea_shifts,
+            self.cea_seconds,
+            self.seconds,
+            self.peak_rss_mib_all_ranks
+        )
+    }
+}
+
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct PairReport {
+    pub name: String,
+    pub points: usize,
+    pub closed: usize,
+    pub normal_force: f64,
+    /// Magnitude of the resultant friction force on the slave.
+    pub friction_force: f64,
+    /// Friction moment about the disc axis: the braking torque.
+    pub braking_torque: f64,
+    /// braking_torque / (mu N): where the friction acts on average.
+    pub effective_radius: f64,
+    pub pressure_min: f64,
+    pub pressure_max: f64,
+    pub pressure_mean: f64,
+}
+
+impl PairReport {
+    pub fn new(name: &str, s: &PairSummary) -> PairReport {
+        let (pressure_min, pressure_max, pressure_mean) = s
+            .pressure
+            .map_or((0.0, 0.0, 0.0), |p| (p.min, p.max, p.mean));
+        PairReport {
+            name: name.to_string(),
+            points: s.points,
+            closed: s.closed,
+            normal_force: s.normal_force,
+            friction_force: s.friction_force.iter().map(|c| c * c).sum::<f64>().sqrt(),
+            braking_torque: s.braking_torque,
+            effective_radius: s.effective_radius,
+            pressure_min,
+            pressure_max,
+            pressure_mean,
+        }
+    }
+}
+
+/// The model a sweep ran on, as sweep.json records it.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct ModelInfo {
+    pub source: String,
+    pub nodes: usize,
+    pub elements: usize,
+    pub equations: usize,
+    pub ranks: usize,
+    pub pairs: Vec<String>,
+    /// Contact points of all pairs.
+    #[serde(skip)]
+    pub contact_points: usize,
+    /// The pressure resultant the contacts must carry.
+    #[serde(skip)]
+    pub applied_load: f64,
+    pub max_frequency_hz: f64,
+    pub damping: Option<RayleighDamping>,
+}
+
+impl ModelInfo {
+    /// The opening log line of a sweep.
+    pub fn describe(&self) -> String {
+        format!(
+            "{}: {} nodes, {} elements, {} equations on {} rank(s); {} contact pairs ({} points); applied load {:.4e} N",
+            self.source,
+            self.nodes,
+            self.elements,
+            self.equations,
+            self.ranks,
+            self.pairs.len(),
+            self.contact_points,
+            self.applied_load
+        )
+    }
+}
+
+#[derive(serde::Serialize)]
+struct SweepDocument<'a> {
+    model: &'a ModelInfo,
+    points: &'a [SweepPointReport],
+    tracks: &'a [Track],
+    instabilities: &'a [Instability],
+}
+
+/// A point's cea.json/csv and, when the model has fields on a mesh, its cea.vtu.
+pub fn write_point(
+    dir: &Path,
+    mesh: &Mesh,
+    fields: Option<&PointFields>,
+    report: &SweepPointReport,
+    info: &ModelInfo,
+) -> anyhow::Result<()> {
+    crate::study::cea::write_report(
+        dir,
+        &report.eigenvalues,
+        info.max_frequency_hz,
+        serde_json::json!({ "friction": report.friction, "contact": report.contact }),
+    )?;
+    let Some(fields) = fields else {
+        return Ok(());
+    };
+    let mut all = vec![
+        Field::vector("static_displacement", &fields.static_displacement),
+        Field::scalar("contact_pressure", fields.contact_pressure.clone()),
+        Field::scalar("contact_closed", fields.contact_closed.clone()),
+    ];
+    for shape in &fields.unstable {
+        let name = format!(
+            "unstable_{:.1}Hz_{:+.3e}",
+            shape.mode.frequency_hz, shape.mode.real_part
+        );
+        all.push(Field::vector(format!("{name}_re"), &shape.re));
+        all.push(Field::vector(format!("{name}_im"), &shape.im));
+    }
+    let parts = Field::part_ids(mesh, 0);
+    let mut writer = VtuWriter::new(mesh).cell_field(&parts);
+    for f in &all {
+        writer = writer.point_field(f);
+    }
+    writer.write(&dir.join("cea.vtu"))?;
+    Ok(())
+}
+
+/// sweep.json and the two plots.
+pub fn write_sweep(
+    dir: &Path,
+    info: &ModelInfo,
+    reports: &[SweepPointReport],
+    points: &[SweepPoint],
+    tracks: &[Track],
+    instabilities: &[Instability],
+) -> anyhow::Result<()> {
+    let doc = SweepDocument {
+        model: info,
+        points: reports,
+        tracks,
+        instabilities,
+    };
+    std::fs::create_dir_all(dir)?;
+    write_atomically(&dir.join("sweep.json"), &serde_json::to_vec_pretty(&doc)?)?;
+    write_plots(dir, reports, points, tracks, instabilities)
+}
+
+fn write_plots(
+    dir: &Path,
+    reports: &[SweepPointReport],
+    points: &[SweepPoint],
+    tracks: &[Track],
+    instabilities: &[Instability],
+) -> anyhow::Result<()> {
+    use crate::study::plot;
+    let scatter: Vec<plot::MapPoint> = reports
+        .iter()
+        .flat_map(|r| {
+            r.eigenvalues.iter().map(move |m| plot::MapPoint {
+                mu: r.friction,
+                frequency_hz: m.frequency_hz,
+                real_part: m.real_part,
+                unstable: m.unstable,
+            })
+        })
+        .collect();
+    plot::write_svg(
+        &dir.join("stability_map.svg"),
+        &plot::stability_map(
+            &scatter,
+            "Stability map: every mode at every friction coefficient",
+        ),
+    )?;
+    let unstable: std::collections::BTreeSet<usize> = instabilities
+        .iter()
+        .flat_map(|i| std::iter::once(i.track).chain(i.partner))
+        .collect();
+    let lines: Vec<plot::Track> = tracks
+        .iter()
+        .map(|t| {
+            let pts = t
+                .members
+                .iter()
+                .enumerate()
+                .filter_map(|(k, m)| {
+                    m.map(|i| {
+                        let l = points[k].eigenvalues[i];
+                        (points[k].mu, tracking::frequency_hz(l), l.re)
+                    })
+                })
+                .collect();
+            (format!("track {}", t.id), pts, unstable.contains(&t.id))
+        })
+        .collect();
+    plot::write_svg(
+        &dir.join("friction_sweep.svg"),
+        &plot::sweep_tracks(
+            &lines,
+            "Friction sweep: frequency and real part of each tracked mode",
+        ),
+    )?;
+    Ok(())
+}
+
+/// The table printed at the end of a sweep.
+pub fn summary_table(reports: &[SweepPointReport], instabilities: &[Instability]) -> String {
+    let mut s = String::from(
+        "\n    mu   modes  unstable   max real part (1/s)   at (Hz)   balance   Newton\n",
+    );
+    for r in reports {
+        let worst = r
+            .eigenvalues
+            .iter()
+            .filter(|m| m.unstable)
+            .max_by(|a, b| a.real_part.total_cmp(&b.real_part));
+        s.push_str(&format!(
+            "  {:>4.2}  {:>6}  {:>8}   {:>19}   {:>7}   {:>7.5}   {:>6}\n",
+            r.friction,
+            r.eigenvalues.len(),
+            r.eigenvalues.iter().filter(|m| m.unstable).count(),
+            worst.map_or("-".into(), |m| format!("{:.4e}", m.real_part)),
+            worst.map_or("-".into(), |m| format!("{:.1}", m.frequency_hz)),
+            r.balance_ratio,
+            r.static_iterations
+        ));
+    }
+    s.push_str(&format!("\n  {} instabilities\n", instabilities.len()));
+    for i in instabilities {
+        s.push_str(&format!(
+            "    track {:>3} (partner {}): onset mu {:.3} at {:.1} Hz, max real part {:.4e} 1/s at mu {:.2} ({:.1} Hz)\n",
+            i.track,
+            i.partner.map_or("-".into(), |p| p.to_string()),
+            i.onset_mu,
+            i.frequency_hz_at_onset,
+            i.max_real_part,
+            i.mu_at_max,
+            i.frequency_hz_at_max
+        ));
+    }
+    s
+}
