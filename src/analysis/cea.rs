@@ -345,7 +345,7 @@ pub fn damped<'rt>(
             ..Default::default()
         };
         let mut pep = QuadraticEigenSolver::new(comm, stiffness, damping, mass, &pep_options)?;
-        let converged = pep.solve()?;
+        let converged = pep.solve()?.converged;
         let mut values = Vec::with_capacity(converged);
         for i in 0..converged {
             let (value, re, im) = pep.pair(i, &template)?;
