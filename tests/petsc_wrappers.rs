@@ -7,6 +7,8 @@ mod common;
 use faer::linalg::solvers::Solve;
 use faer::{Mat, Par, Side};
 use num_complex::Complex64;
+use squeal::fem::{assemble, DofMap, StructureOptions};
+use squeal::mesh::{block::block, Material};
 use squeal::petsc::{
     columns_to_faer, Comm, DenseMatrix, DirectPackage, EigenOptions, EigenProblem, EigenSolver,
     FactoredMatrix, Factorization, IndexSet, JacobianChange, LinearMethod, LinearSolver, Matrix,
@@ -44,6 +46,7 @@ const CHECKS: &[Check] = checks![
     "projection_t_k_t" => projection_t_k_t,
     "fixed_interface_modes_of_submatrices" => fixed_interface_modes,
     "singular_block_factorization_is_err" => singular_block_factorization,
+    "tet10_block_craig_bampton_basis" => tet10_craig_bampton,
 ];
 
 fn main() {
@@ -922,7 +925,8 @@ fn constraint_modes_block_solve(rt: &Runtime) -> Result<Vec<f64>, String> {
 
 /// T^T A T for a distributed sparse A and distributed dense T, on every rank: A = K with
 /// a smooth 7-column T, and A = K_II, M_II with T = Psi (as the super-element's K_r, M_r).
-/// Each entry is compared with the dense product from the same numbers.
+/// Each entry is compared with the dense product from the same numbers
+/// ([`check_projection`]).
 fn projection_t_k_t(rt: &Runtime) -> Result<Vec<f64>, String> {
     let comm = rt.world();
     let el = element(comm)?;
@@ -970,40 +974,53 @@ fn projection_t_k_t(rt: &Runtime) -> Result<Vec<f64>, String> {
         ),
     ] {
         let got = a.project(t).map_err(e)?;
-        let m = t_all.ncols();
-        if (got.nrows(), got.ncols()) != (m, m) {
-            return Err(format!("{name} is {}x{}", got.nrows(), got.ncols()));
-        }
-        let rows = t_all.nrows();
-        // Each entry is a sum of rows^2 products, in any order: both computations are
-        // within gamma_{2 rows} (|T|^T |A| |T|)_ij of the exact value (gamma_k = k eps /
-        // (1 - k eps), Higham 3.5: a dot product of length `rows` nested in another), so
-        // they differ by at most twice that. A rigorous bound, not a guess.
-        let gamma = |k: f64| k * f64::EPSILON / (1.0 - k * f64::EPSILON);
-        for p in 0..m {
-            for q in 0..m {
-                let (mut exact, mut magnitude) = (0.0, 0.0);
-                for i in 0..rows {
-                    for j in 0..rows {
-                        let v = a_dense[(i, j)];
-                        if v != 0.0 {
-                            exact += t_all[(i, p)] * v * t_all[(j, q)];
-                            magnitude += (t_all[(i, p)] * v * t_all[(j, q)]).abs();
-                        }
-                    }
-                }
-                let allowed = 2.0 * gamma(2.0 * rows as f64) * magnitude;
-                if (got[(p, q)] - exact).abs() > allowed {
-                    return Err(format!(
-                        "{name}[{p},{q}] = {} but dense {exact} (allowed {allowed:e})",
-                        got[(p, q)]
-                    ));
-                }
-            }
-        }
+        check_projection(name, &got, &a_dense, t_all)?;
         out.extend(flatten(&got));
     }
     Ok(out)
+}
+
+/// Checks `got` = T^T A T entry by entry against the dense product of the same numbers.
+/// Each entry is a dot product of length n nested in another (T^T (A T), in whatever order
+/// either side sums): both computations are within gamma_{2n} (|T|^T |A| |T|)_pq of the
+/// exact value (gamma_k = k eps / (1 - k eps), Higham, Accuracy and Stability, 3.5), so
+/// they differ by at most twice that. A rigorous bound, not a guess.
+fn check_projection(name: &str, got: &Mat<f64>, a: &Mat<f64>, t: &Mat<f64>) -> Result<(), String> {
+    let (n, m) = (t.nrows(), t.ncols());
+    if (got.nrows(), got.ncols()) != (m, m) {
+        return Err(format!("{name} is {}x{}", got.nrows(), got.ncols()));
+    }
+    let mut at = Mat::<f64>::zeros(n, m);
+    let mut abs_at = Mat::<f64>::zeros(n, m);
+    for i in 0..n {
+        for j in 0..n {
+            let v = a[(i, j)];
+            if v != 0.0 {
+                for q in 0..m {
+                    at[(i, q)] += v * t[(j, q)];
+                    abs_at[(i, q)] += (v * t[(j, q)]).abs();
+                }
+            }
+        }
+    }
+    let gamma = |k: f64| k * f64::EPSILON / (1.0 - k * f64::EPSILON);
+    for p in 0..m {
+        for q in 0..m {
+            let (mut exact, mut magnitude) = (0.0, 0.0);
+            for i in 0..n {
+                exact += t[(i, p)] * at[(i, q)];
+                magnitude += t[(i, p)].abs() * abs_at[(i, q)];
+            }
+            let allowed = 2.0 * gamma(2.0 * n as f64) * magnitude;
+            if (got[(p, q)] - exact).abs() > allowed {
+                return Err(format!(
+                    "{name}[{p},{q}] = {} but dense {exact} (allowed {allowed:e})",
+                    got[(p, q)]
+                ));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Fixed-interface modes: the 4 lowest eigenvalues of (K_II, M_II), extracted as
@@ -1069,4 +1086,176 @@ fn singular_block_factorization(rt: &Runtime) -> Result<Vec<f64>, String> {
         Err(err) if !err.to_string().is_empty() => Ok(vec![1.0]),
         Err(_) => Err("empty error message".into()),
     }
+}
+
+/// A free-free steel tet10 block (3 x 2 x 1 cells, 315 equations, K and M from
+/// `fem::assemble`) whose interface is every DOF of its two end faces x0 and x1 (90
+/// equations). The constraint modes Psi from one MUMPS Cholesky with a block solve must
+/// (1) match faer's dense solve within the condition-based bound of
+/// `constraint_modes_block_solve` (condition 1.5e3, bound 9.8e-11, measured 2e-14), and
+/// (2) carry a rigid translation of the interface to the same translation of the interior,
+/// as K r = 0 demands (measured errors <= 2e-14). The Craig-Bampton basis
+/// T = [Psi; I] is then laid out in the model's own equation order (each rank its own
+/// rows, as the super-element code will), and K_r = T^T K T must equal the dense product
+/// within the rigorous rounding bound of [`check_projection`].
+fn tet10_craig_bampton(rt: &Runtime) -> Result<Vec<f64>, String> {
+    let comm = rt.world();
+    faer::set_global_parallelism(Par::Seq);
+    let steel = Material {
+        name: "steel".into(),
+        young: 210e9,
+        poisson: 0.3,
+        density: 7850.0,
+    };
+    let mesh = block([0.0; 3], [0.1, 0.04, 0.02], [3, 2, 1], steel)?;
+    let dofs = DofMap::new(mesh.nodes.len(), 0, &[], comm.size(), comm.rank())?;
+    let pattern = assemble::pattern(&dofs, mesh.elements.iter().map(|c| &c[..]));
+    let (k, _m) =
+        assemble::stiffness_and_mass(comm, &mesh, &dofs, &pattern, StructureOptions::default())
+            .map_err(|x| x.to_string())?;
+    let n = dofs.equations();
+    // The displacement component (x, y, z) of each equation.
+    let mut component = vec![0; n];
+    for node in 0..mesh.nodes.len() {
+        for c in 0..3 {
+            if let Some(eq) = dofs.equation(node, c) {
+                component[eq] = c;
+            }
+        }
+    }
+    let dofs = &dofs;
+    let mut boundary: Vec<usize> = ["x0", "x1"]
+        .iter()
+        .flat_map(|set| mesh.node_sets[*set].iter())
+        .flat_map(|&node| (0..3).filter_map(move |c| dofs.equation(node, c)))
+        .collect();
+    boundary.sort_unstable();
+    boundary.dedup();
+    let interior: Vec<usize> = (0..n)
+        .filter(|i| boundary.binary_search(i).is_err())
+        .collect();
+    let (lo, hi) = k.ownership_range().map_err(e)?;
+    let b_set = IndexSet::owned_subset(comm, lo..hi, &boundary).map_err(e)?;
+    let i_set = b_set.complement(lo..hi).map_err(e)?;
+    let mut k_ii = k.submatrix(&i_set, &i_set).map_err(e)?;
+    k_ii.mark_symmetric().map_err(e)?;
+    let k_ib = k.submatrix(&i_set, &b_set).map_err(e)?;
+    let factored = FactoredMatrix::new(comm, &k_ii, DirectPackage::Mumps, Factorization::Cholesky)
+        .map_err(e)?;
+    let mut psi = factored
+        .solve_block(&DenseMatrix::from_sparse(comm, &k_ib).map_err(e)?)
+        .map_err(e)?;
+    psi.scale(-1.0).map_err(e)?;
+    let psi_all = psi.to_faer().map_err(e)?;
+
+    // (1) Against the dense solve, as in constraint_modes_block_solve.
+    let k_dense = gathered(comm, &k)?;
+    let k_ii_dense = dense_block(&k_dense, &interior, &interior);
+    let k_ib_dense = dense_block(&k_dense, &interior, &boundary);
+    let reference = -k_ii_dense
+        .llt(Side::Lower)
+        .map_err(|x| format!("{x:?}"))?
+        .solve(&k_ib_dense);
+    let eigenvalues = k_ii_dense
+        .self_adjoint_eigenvalues(Side::Lower)
+        .map_err(|x| format!("{x:?}"))?;
+    let (lambda_max, condition) = (
+        eigenvalues[eigenvalues.len() - 1],
+        eigenvalues[eigenvalues.len() - 1] / eigenvalues[0],
+    );
+    let n_i = interior.len() as f64;
+    let solve_bound = 2.0 * 10.0 * n_i.sqrt() * f64::EPSILON * condition;
+    let column_error = |x: &Mat<f64>, y: &Mat<f64>, j: usize| {
+        let (mut diff, mut norm) = (0.0, 0.0);
+        for i in 0..x.nrows() {
+            diff += (x[(i, j)] - y[(i, j)]).powi(2);
+            norm += y[(i, j)].powi(2);
+        }
+        (diff / norm).sqrt()
+    };
+    let worst = (0..psi_all.ncols())
+        .map(|j| column_error(&psi_all, &reference, j))
+        .fold(0.0, f64::max);
+    if worst > solve_bound {
+        return Err(format!(
+            "Psi column error {worst:e} > {solve_bound:e} (condition {condition:.3e})"
+        ));
+    }
+
+    // (2) Rigid translations. The assembled K annihilates r only to its own rounding, so
+    // the exact solution of K_II x = -K_IB r_B is r_I plus K_II^-1 (K_II r_I + K_IB r_B):
+    // the bound adds condition * |K_II r_I + K_IB r_B| / (lambda_max |r_I|) to the solve's.
+    let mut rigid_errors = Vec::new();
+    for c in 0..3 {
+        let is_c = |eq: usize| component[eq] == c;
+        let r_b: Vec<f64> = boundary
+            .iter()
+            .map(|&b| f64::from(u8::from(is_c(b))))
+            .collect();
+        let r_i: Vec<f64> = interior
+            .iter()
+            .map(|&i| f64::from(u8::from(is_c(i))))
+            .collect();
+        let norm_i = r_i.iter().map(|x| x * x).sum::<f64>().sqrt();
+        let mut residual = 0.0;
+        let mut error = 0.0;
+        for i in 0..interior.len() {
+            let mut k_r = 0.0;
+            let mut psi_r = 0.0;
+            for (j, &rj) in r_i.iter().enumerate() {
+                k_r += k_ii_dense[(i, j)] * rj;
+            }
+            for (j, &rj) in r_b.iter().enumerate() {
+                k_r += k_ib_dense[(i, j)] * rj;
+                psi_r += psi_all[(i, j)] * rj;
+            }
+            residual += k_r * k_r;
+            error += (psi_r - r_i[i]).powi(2);
+        }
+        let (residual, error) = (residual.sqrt(), error.sqrt() / norm_i);
+        let bound = solve_bound + condition * residual / (lambda_max * norm_i);
+        if error > bound {
+            return Err(format!(
+                "Psi r_B differs from r_I by {error:e} (bound {bound:e}) in direction {c}"
+            ));
+        }
+        rigid_errors.push(error);
+    }
+    if comm.rank() == 0 {
+        eprintln!(
+            "tet10 block: condition {condition:.2e}, Psi error {worst:.2e} (bound \
+             {solve_bound:.2e}), rigid translation errors {rigid_errors:?}"
+        );
+    }
+
+    // The basis in the model's equation order: this rank's interior rows are Psi's local
+    // rows, in the same order (the interior index set is Psi's row layout); its boundary
+    // rows are rows of the identity.
+    let psi_local = psi.local_values().map_err(e)?;
+    let local_interior = i_set.indices().map_err(e)?;
+    let mut t = DenseMatrix::zeros(comm, hi - lo, boundary.len()).map_err(e)?;
+    t.write_local(|i, j| {
+        let g = lo + i;
+        match local_interior.binary_search(&g) {
+            Ok(k) => psi_local[(k, j)],
+            Err(_) => f64::from(u8::from(boundary[j] == g)),
+        }
+    })
+    .map_err(e)?;
+    let t_all = t.to_faer().map_err(e)?;
+    for (row, &g) in interior.iter().enumerate() {
+        for j in 0..boundary.len() {
+            if t_all[(g, j)] != psi_all[(row, j)] {
+                return Err(format!("T[{g},{j}] is not Psi[{row},{j}]"));
+            }
+        }
+    }
+    let k_r = k.project(&t).map_err(e)?;
+    check_projection("K_r", &k_r, &k_dense, &t_all)?;
+    // K_r (~1e10, steel in pascals) scaled to the size of Psi (~1), so that the comparison
+    // between rank counts, relative to the largest number, weighs both.
+    let scale = flatten(&k_r).iter().fold(0.0, |m: f64, x| m.max(x.abs()));
+    let mut out = flatten(&psi_all);
+    out.extend(flatten(&k_r).iter().map(|x| x / scale));
+    Ok(out)
 }

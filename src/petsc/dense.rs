@@ -230,6 +230,7 @@ impl<'rt> DenseMatrix<'rt> {
     /// The (cols x other's cols) result is gathered to every rank, see
     /// [`DenseMatrix::to_faer`].
     pub fn transpose_mult(&self, other: &DenseMatrix<'rt>) -> Result<Mat<f64>> {
+        same_comm(other.raw.cast(), self.comm)?;
         let mut raw = std::ptr::null_mut();
         // SAFETY: live matrices; PETSc checks that the row layouts agree.
         check(unsafe {
@@ -249,8 +250,15 @@ impl<'rt> DenseMatrix<'rt> {
     /// receives the same bits, so dense decisions taken on each rank from it agree.
     pub fn to_faer(&self) -> Result<Mat<f64>> {
         let (rows, cols) = self.size()?;
+        // Decided from the global size, the same on every rank, before any collective; then
+        // every count and displacement below fits too.
+        if mpi::Count::try_from(rows * cols).is_err() {
+            return Err(PetscError::Invalid(format!(
+                "a {rows}x{cols} dense matrix is too large to gather with 32-bit MPI counts"
+            )));
+        }
         let comm = self.comm.mpi();
-        let mut counts_rows = vec![0 as mpi::Count; self.comm.size()];
+        let mut counts = vec![0 as mpi::Count; self.comm.size()];
         let send: std::vec::Vec<f64> = {
             // Row by row, so the ranks' pieces concatenate to the row-major global matrix
             // (ownership ranges are contiguous and increase with the rank).
@@ -260,12 +268,12 @@ impl<'rt> DenseMatrix<'rt> {
                 .map(|(i, j)| local.get(i, j))
                 .collect()
         };
-        let mine = mpi::Count::try_from(send.len()).map_err(|_| too_big(rows, cols))?;
-        comm.all_gather_into(&mine, &mut counts_rows[..]);
-        let mut displs = std::vec::Vec::with_capacity(counts_rows.len());
+        let mine = send.len() as mpi::Count;
+        comm.all_gather_into(&mine, &mut counts[..]);
+        let mut displs = std::vec::Vec::with_capacity(counts.len());
         let mut total: usize = 0;
-        for &c in &counts_rows {
-            displs.push(mpi::Count::try_from(total).map_err(|_| too_big(rows, cols))?);
+        for &c in &counts {
+            displs.push(total as mpi::Count);
             total += c as usize;
         }
         if total != rows * cols {
@@ -275,17 +283,11 @@ impl<'rt> DenseMatrix<'rt> {
         }
         let mut all = vec![0.0; total];
         {
-            let mut partition = PartitionMut::new(&mut all[..], counts_rows, displs);
+            let mut partition = PartitionMut::new(&mut all[..], counts, displs);
             comm.all_gather_varcount_into(&send[..], &mut partition);
         }
         Ok(Mat::from_fn(rows, cols, |i, j| all[i * cols + j]))
     }
-}
-
-fn too_big(rows: usize, cols: usize) -> PetscError {
-    PetscError::Invalid(format!(
-        "a {rows}x{cols} dense matrix is too large to gather with 32-bit MPI counts"
-    ))
 }
 
 /// Refuses an object that does not live on `comm` (or a copy of it: PETSc keeps its own

@@ -15,7 +15,10 @@ use super::sys;
 /// [`LinearSolver`](super::LinearSolver), so the same `-pc_factor_*` and `-mat_mumps_*`
 /// options apply; blocks are solved with MatMatSolve on the factor, which MUMPS (5.x,
 /// PETSc 3.18) runs as one multi-right-hand-side solve over a dense block instead of one
-/// pass through the factors per column.
+/// pass through the factors per column. Measured (3D Laplacian, n = 13,824, 96 right-hand
+/// sides, medians of 3 on this 2-core machine under a load of ~10): 0.12 s for the block
+/// against 1.3 s for 96 single solves with the same factorisation on 1 rank, 1.1 s against
+/// 10.3 s on 2 ranks; the factorisation itself took the same time (0.26 s / 0.98 s) both ways.
 pub struct FactoredMatrix<'rt> {
     ksp: sys::KSP,
     comm: Comm<'rt>,
