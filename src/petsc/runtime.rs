@@ -69,9 +69,9 @@ impl<'rt> Comm<'rt> {
         self.mpi
     }
 
-    // The reductions below go through rsmpi, which (like MPI's default error handler,
-    // MPI_ERRORS_ARE_FATAL, that rsmpi and PETSc leave installed) never hands back an error
-    // code: a failed collective aborts the job instead of returning.
+    // The reductions below go through rsmpi's safe collectives, which return no error code:
+    // squeal installs no MPI error handler of its own, so under MPI's default
+    // (MPI_ERRORS_ARE_FATAL) a failed collective aborts the job rather than returning.
 
     /// Whether `flag` holds on every rank (collective). Used before a collective PETSc call
     /// so that a failure seen by one rank stops all of them instead of leaving the others
