@@ -179,8 +179,10 @@ impl bindgen::callbacks::ParseCallbacks for Rename {
 fn generate_bindings(found: &Found, mpi_includes: &[PathBuf]) {
     let mut builder = bindgen::Builder::default()
         .header("build/wrapper.h")
-        .allowlist_function("(Petsc|Vec|Mat|KSP|PC|SNES|EPS|ST|PEP|BV|Slepc)[A-Za-z0-9_]*")
-        .allowlist_type("(Petsc|Vec|Mat|KSP|PC|SNES|EPS|ST|PEP|BV|Slepc|Insert|Norm)[A-Za-z0-9_]*")
+        .allowlist_function("(Petsc|Vec|Mat|IS|KSP|PC|SNES|EPS|ST|PEP|BV|Slepc)[A-Za-z0-9_]*")
+        .allowlist_type(
+            "(Petsc|Vec|Mat|IS|KSP|PC|SNES|EPS|ST|PEP|BV|Slepc|Insert|Norm)[A-Za-z0-9_]*",
+        )
         .allowlist_var("(PETSC|SLEPC|MAT|KSP|PC|SNES|EPS|ST|PEP|VEC|NORM|INSERT|ADD)[A-Z0-9_]*")
         // MPI types come from rsmpi so that `MPI_Comm` is one Rust type across both crates.
         .blocklist_type("MPI_.*|ompi_.*")

@@ -2,7 +2,8 @@
 //! reduced model can stand in for the full one (Fazio, Nacivet, Sinou 2015).
 //!
 //! Stages, each using only the ones before it: [`mesh`] -> [`fem`] -> analysis -> reduction
-//! -> study. [`petsc`] is the only module with `unsafe`.
+//! -> study. [`petsc`] is the only module with `unsafe`: denied here, allowed there alone.
+#![deny(unsafe_code)]
 
 pub mod analysis;
 pub mod atomic_file;

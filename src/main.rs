@@ -1,5 +1,6 @@
 //! The `squeal` command line: parses, starts the runtime, and calls one function of
 //! `squeal::study` per subcommand.
+#![deny(unsafe_code)]
 
 use clap::{Parser, Subcommand, ValueEnum};
 use squeal::fem::element::MassRule;

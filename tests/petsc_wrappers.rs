@@ -4,11 +4,16 @@
 
 mod common;
 
+use faer::linalg::solvers::Solve;
+use faer::{Mat, Par, Side};
 use num_complex::Complex64;
+use squeal::fem::{assemble, DofMap, StructureOptions};
+use squeal::mesh::{block::block, Material};
 use squeal::petsc::{
-    Comm, DirectPackage, EigenOptions, EigenProblem, EigenSolver, Factorization, JacobianChange,
-    LinearMethod, LinearSolver, Matrix, NewtonOptions, NonlinearSolver, PetscError, PetscInt,
-    QuadraticEigenSolver, QuadraticOptions, RowPattern, Runtime, Spectrum, Vector,
+    columns_to_faer, Comm, DenseMatrix, DirectPackage, EigenOptions, EigenProblem, EigenSolver,
+    FactoredMatrix, Factorization, IndexSet, JacobianChange, LinearMethod, LinearSolver, Matrix,
+    NewtonOptions, NonlinearSolver, PetscError, PetscInt, QuadraticEigenSolver, QuadraticOptions,
+    RowPattern, Runtime, Spectrum, Vector,
 };
 use std::f64::consts::PI;
 
@@ -36,6 +41,12 @@ const CHECKS: &[Check] = checks![
     "singular_solve_is_err_on_every_rank" => singular_solve,
     "entry_outside_pattern_is_err" => outside_pattern,
     "vector_gather_and_norms" => vector_gather,
+    "index_sets_and_submatrices" => index_sets_and_submatrices,
+    "constraint_modes_block_solve" => constraint_modes_block_solve,
+    "projection_t_k_t" => projection_t_k_t,
+    "fixed_interface_modes_of_submatrices" => fixed_interface_modes,
+    "singular_block_factorization_is_err" => singular_block_factorization,
+    "tet10_block_craig_bampton_basis" => tet10_craig_bampton,
 ];
 
 fn main() {
@@ -559,9 +570,14 @@ fn pep_closed_form(rt: &Runtime) -> Result<Vec<f64>, String> {
         ..Default::default()
     };
     let mut pep = QuadraticEigenSolver::new(comm, &k, &c, &m, &options).map_err(e)?;
-    let converged = pep.solve().map_err(e)?;
+    let summary = pep.solve().map_err(e)?;
+    let converged = summary.converged;
     if converged < count {
-        return Err(format!("{converged} of {count} converged"));
+        return Err(format!("{converged} of {count} converged: {summary:?}"));
+    }
+    // SLEPc's PEP_CONVERGED_TOL, the same code as EPS's, and the count asked for.
+    if summary.reason != 1 || summary.requested != count || summary.iterations == 0 {
+        return Err(format!("unexpected summary {summary:?}"));
     }
     let exact: Vec<Complex64> = (0..n)
         .flat_map(|i| {
@@ -661,4 +677,585 @@ fn vector_gather(rt: &Runtime) -> Result<Vec<f64>, String> {
         return Err("copy differs".into());
     }
     Ok(vec![norm, v.dot(&v).map_err(e)?])
+}
+
+// ---------------------------------------------------------------------------------------
+// Craig-Bampton building blocks: index sets, sub-matrices, block solves, dense exports.
+
+/// Row i of a five-point stencil on a g x g grid (`diagonal`, `off` to the 4 neighbours, none
+/// past the edges). With (4, -1) the Dirichlet Laplacian (SPD, condition ~ 0.4 (g+1)^2);
+/// with (1, 0.1) a diagonally dominant SPD "mass".
+fn five_point(i: usize, g: usize, diagonal: f64, off: f64) -> Vec<(usize, f64)> {
+    let (x, y) = (i % g, i / g);
+    let mut row = vec![(i, diagonal)];
+    if x > 0 {
+        row.push((i - 1, off));
+    }
+    if x + 1 < g {
+        row.push((i + 1, off));
+    }
+    if y > 0 {
+        row.push((i - g, off));
+    }
+    if y + 1 < g {
+        row.push((i + g, off));
+    }
+    row
+}
+
+/// The test super-element: a 12 x 12 grid whose boundary (interface) equations are the left
+/// and right grid columns plus one inner node; uneven over 2 ranks on purpose (rank 0 owns
+/// rows 0..72, with 13 of the 25 boundary equations).
+struct Element<'rt> {
+    n: usize,
+    stiffness: Matrix<'rt>,
+    mass: Matrix<'rt>,
+    boundary: Vec<usize>,
+    interior: Vec<usize>,
+    /// The same matrices, dense, built from the same row function on every rank.
+    stiffness_dense: Mat<f64>,
+    mass_dense: Mat<f64>,
+}
+
+const GRID: usize = 12;
+
+fn element(comm: Comm<'_>) -> Result<Element<'_>, String> {
+    // Each rank computes only its own block, and this PETSc is not thread-safe anyway.
+    faer::set_global_parallelism(Par::Seq);
+    let g = GRID;
+    let n = g * g;
+    let k_row = |i: usize| five_point(i, g, 4.0, -1.0);
+    let m_row = |i: usize| five_point(i, g, 1.0, 0.1);
+    let dense = |row: &dyn Fn(usize) -> Vec<(usize, f64)>| {
+        let mut d = Mat::<f64>::zeros(n, n);
+        for i in 0..n {
+            for (j, v) in row(i) {
+                d[(i, j)] += v;
+            }
+        }
+        d
+    };
+    let mut boundary: Vec<usize> = (0..g).flat_map(|y| [y * g, y * g + g - 1]).collect();
+    boundary.push(5 * g + 6);
+    boundary.sort_unstable();
+    let interior = (0..n)
+        .filter(|i| boundary.binary_search(i).is_err())
+        .collect();
+    Ok(Element {
+        n,
+        stiffness: matrix(comm, n, k_row)?,
+        mass: matrix(comm, n, m_row)?,
+        boundary,
+        interior,
+        stiffness_dense: dense(&k_row),
+        mass_dense: dense(&m_row),
+    })
+}
+
+/// `a[rows, cols]` of a dense matrix.
+fn dense_block(a: &Mat<f64>, rows: &[usize], cols: &[usize]) -> Mat<f64> {
+    Mat::from_fn(rows.len(), cols.len(), |i, j| a[(rows[i], cols[j])])
+}
+
+/// The whole of a distributed sparse matrix on every rank (through the dense conversion).
+fn gathered(comm: Comm<'_>, a: &Matrix<'_>) -> Result<Mat<f64>, String> {
+    DenseMatrix::from_sparse(comm, a)
+        .and_then(|d| d.to_faer())
+        .map_err(e)
+}
+
+fn flatten(a: &Mat<f64>) -> Vec<f64> {
+    (0..a.nrows())
+        .flat_map(|i| (0..a.ncols()).map(move |j| (i, j)))
+        .map(|(i, j)| a[(i, j)])
+        .collect()
+}
+
+/// The interior/boundary split of the owned rows, as index sets (I, B).
+fn split_sets<'rt>(
+    comm: Comm<'rt>,
+    el: &Element<'rt>,
+) -> Result<(IndexSet<'rt>, IndexSet<'rt>), String> {
+    let (lo, hi) = el.stiffness.ownership_range().map_err(e)?;
+    let b = IndexSet::owned_subset(comm, lo..hi, &el.boundary).map_err(e)?;
+    let i = b.complement(lo..hi).map_err(e)?;
+    Ok((i, b))
+}
+
+/// IS from a sorted list and its complement hold exactly this rank's boundary and interior
+/// equations; K_II, K_IB, M_II extracted from the distributed matrices equal the dense
+/// blocks entry for entry (copies, so exactly: tolerance 0). An unsorted list is an Err on
+/// every rank.
+fn index_sets_and_submatrices(rt: &Runtime) -> Result<Vec<f64>, String> {
+    let comm = rt.world();
+    let el = element(comm)?;
+    let (lo, hi) = el.stiffness.ownership_range().map_err(e)?;
+    let (i_set, b_set) = split_sets(comm, &el)?;
+    let owned = |list: &[usize]| -> Vec<usize> {
+        list.iter()
+            .copied()
+            .filter(|&i| lo <= i && i < hi)
+            .collect()
+    };
+    if b_set.indices().map_err(e)? != owned(&el.boundary)
+        || i_set.indices().map_err(e)? != owned(&el.interior)
+    {
+        return Err("index sets differ from the owned boundary/interior equations".into());
+    }
+    if b_set.global_size().map_err(e)? != el.boundary.len()
+        || i_set.global_size().map_err(e)? != el.interior.len()
+        || i_set.local_size().map_err(e)? + b_set.local_size().map_err(e)? != hi - lo
+    {
+        return Err("index set sizes".into());
+    }
+    if IndexSet::owned_subset(comm, lo..hi, &[3, 1]).is_ok() {
+        return Err("an unsorted list was accepted".into());
+    }
+    let k_ii = el.stiffness.submatrix(&i_set, &i_set).map_err(e)?;
+    let k_ib = el.stiffness.submatrix(&i_set, &b_set).map_err(e)?;
+    let m_ii = el.mass.submatrix(&i_set, &i_set).map_err(e)?;
+    let mut out = Vec::new();
+    for (name, sub, full, cols) in [
+        ("K_II", &k_ii, &el.stiffness_dense, &el.interior),
+        ("K_IB", &k_ib, &el.stiffness_dense, &el.boundary),
+        ("M_II", &m_ii, &el.mass_dense, &el.interior),
+    ] {
+        let expect = dense_block(full, &el.interior, cols);
+        let (rows, ncols) = sub.size().map_err(e)?;
+        if (rows, ncols) != (expect.nrows(), expect.ncols()) {
+            return Err(format!("{name} is {rows}x{ncols}"));
+        }
+        // Distributed like the original: this rank's rows of the sub-matrix are its own
+        // interior equations.
+        let (slo, shi) = sub.ownership_range().map_err(e)?;
+        if shi - slo != owned(&el.interior).len() {
+            return Err(format!("{name} rows {slo}..{shi} on this rank"));
+        }
+        let got = gathered(comm, sub)?;
+        if got != expect {
+            return Err(format!("{name} differs from the dense block"));
+        }
+        out.push(sub.norm_frobenius().map_err(e)?);
+    }
+    out.extend(flatten(&gathered(comm, &k_ib)?));
+    Ok(out)
+}
+
+/// Psi = -K_II^-1 K_IB from one MUMPS factorisation (LU, and Cholesky on the symmetric K_II)
+/// with the 25 right-hand sides solved as one dense block, against faer's dense Cholesky
+/// solve. Also: a column read out, the gathered vectors and a matrix rebuilt from its
+/// columns equal the gathered block bit for bit (copies).
+fn constraint_modes_block_solve(rt: &Runtime) -> Result<Vec<f64>, String> {
+    let comm = rt.world();
+    let el = element(comm)?;
+    let (i_set, b_set) = split_sets(comm, &el)?;
+    let mut k_ii = el.stiffness.submatrix(&i_set, &i_set).map_err(e)?;
+    let k_ib = el.stiffness.submatrix(&i_set, &b_set).map_err(e)?;
+    let rhs = DenseMatrix::from_sparse(comm, &k_ib).map_err(e)?;
+
+    let k_ii_dense = dense_block(&el.stiffness_dense, &el.interior, &el.interior);
+    let k_ib_dense = dense_block(&el.stiffness_dense, &el.interior, &el.boundary);
+    let llt = k_ii_dense.llt(Side::Lower).map_err(|x| format!("{x:?}"))?;
+    let reference = -llt.solve(&k_ib_dense);
+    let eigenvalues = k_ii_dense
+        .self_adjoint_eigenvalues(Side::Lower)
+        .map_err(|x| format!("{x:?}"))?;
+    let condition = eigenvalues[eigenvalues.len() - 1] / eigenvalues[0];
+    let n_i = el.interior.len() as f64;
+    // A backward-stable solve (MUMPS with its pivoting, faer's Cholesky) of an SPD system
+    // has relative forward error <= condition * backward error, and the backward error is
+    // c(n) eps with c(n) ~ sqrt(n) for rounding errors that do not all line up (Higham,
+    // Accuracy and Stability, 3.5). Two such solutions differ by twice that; a factor 10
+    // covers the constant in c(n) and MUMPS's scaling. Here condition = 39 (computed below;
+    // O(g^2) for the grid's Laplacian), n_I = 119: a bound of 1.9e-12; measured 1.3e-15 for
+    // both LU and Cholesky, on 1 and 2 ranks.
+    let bound = 2.0 * 10.0 * n_i.sqrt() * f64::EPSILON * condition;
+
+    let mut out = Vec::new();
+    for factorization in [Factorization::Lu, Factorization::Cholesky] {
+        if factorization == Factorization::Cholesky {
+            k_ii.mark_symmetric().map_err(e)?;
+        }
+        let factored =
+            FactoredMatrix::new(comm, &k_ii, DirectPackage::Mumps, factorization).map_err(e)?;
+        let mut psi = factored.solve_block(&rhs).map_err(e)?;
+        psi.scale(-1.0).map_err(e)?;
+        let psi_all = psi.to_faer().map_err(e)?;
+        if (psi_all.nrows(), psi_all.ncols()) != (el.interior.len(), el.boundary.len()) {
+            return Err(format!("Psi is {}x{}", psi_all.nrows(), psi_all.ncols()));
+        }
+        let mut worst: f64 = 0.0;
+        for j in 0..psi_all.ncols() {
+            let (mut diff, mut norm) = (0.0, 0.0);
+            for i in 0..psi_all.nrows() {
+                diff += (psi_all[(i, j)] - reference[(i, j)]).powi(2);
+                norm += reference[(i, j)].powi(2);
+            }
+            worst = worst.max((diff / norm).sqrt());
+        }
+        if worst > bound {
+            return Err(format!(
+                "{factorization:?}: column error {worst:e} > {bound:e} (condition {condition:.1})"
+            ));
+        }
+        if comm.rank() == 0 {
+            eprintln!("{factorization:?}: Psi column error {worst:.2e}, bound {bound:.2e}");
+        }
+        // Column access and the exports agree with the gathered block exactly.
+        let columns: Vec<Vector> = (0..psi_all.ncols())
+            .map(|j| psi.column(j))
+            .collect::<Result<_, _>>()
+            .map_err(e)?;
+        if columns_to_faer(&columns).map_err(e)? != psi_all {
+            return Err("gathered columns differ from the gathered block".into());
+        }
+        let rebuilt = DenseMatrix::from_columns(comm, &columns).map_err(e)?;
+        if rebuilt.to_faer().map_err(e)? != psi_all {
+            return Err("a matrix rebuilt from its columns differs".into());
+        }
+        let (lo, hi) = psi.ownership_range().map_err(e)?;
+        let local = psi.local_values().map_err(e)?;
+        if local != psi_all.subrows(lo, hi - lo).to_owned() {
+            return Err("local rows differ from the gathered block".into());
+        }
+        out.extend(flatten(&psi_all));
+    }
+    Ok(out)
+}
+
+/// T^T A T for a distributed sparse A and distributed dense T, on every rank: A = K with
+/// a smooth 7-column T, and A = K_II, M_II with T = Psi (as the super-element's K_r, M_r).
+/// Each entry is compared with the dense product from the same numbers
+/// ([`check_projection`]).
+fn projection_t_k_t(rt: &Runtime) -> Result<Vec<f64>, String> {
+    let comm = rt.world();
+    let el = element(comm)?;
+    let (lo, hi) = el.stiffness.ownership_range().map_err(e)?;
+    let columns = 7;
+    let basis = |i: usize, j: usize| (0.3 * i as f64 + 0.7 * j as f64).cos() + 0.01 * j as f64;
+    let mut t = DenseMatrix::zeros(comm, hi - lo, columns).map_err(e)?;
+    t.write_local(|i, j| basis(lo + i, j)).map_err(e)?;
+    let t_all = Mat::from_fn(el.n, columns, basis);
+
+    let (i_set, b_set) = split_sets(comm, &el)?;
+    let k_ii = el.stiffness.submatrix(&i_set, &i_set).map_err(e)?;
+    let m_ii = el.mass.submatrix(&i_set, &i_set).map_err(e)?;
+    let k_ib = el.stiffness.submatrix(&i_set, &b_set).map_err(e)?;
+    let factored =
+        FactoredMatrix::new(comm, &k_ii, DirectPackage::Mumps, Factorization::Lu).map_err(e)?;
+    let mut psi = factored
+        .solve_block(&DenseMatrix::from_sparse(comm, &k_ib).map_err(e)?)
+        .map_err(e)?;
+    psi.scale(-1.0).map_err(e)?;
+    let psi_all = psi.to_faer().map_err(e)?;
+
+    let mut out = Vec::new();
+    for (name, a, a_dense, t, t_all) in [
+        (
+            "T^T K T",
+            &el.stiffness,
+            el.stiffness_dense.clone(),
+            &t,
+            &t_all,
+        ),
+        (
+            "Psi^T K_II Psi",
+            &k_ii,
+            dense_block(&el.stiffness_dense, &el.interior, &el.interior),
+            &psi,
+            &psi_all,
+        ),
+        (
+            "Psi^T M_II Psi",
+            &m_ii,
+            dense_block(&el.mass_dense, &el.interior, &el.interior),
+            &psi,
+            &psi_all,
+        ),
+    ] {
+        let got = a.project(t).map_err(e)?;
+        check_projection(name, &got, &a_dense, t_all)?;
+        out.extend(flatten(&got));
+    }
+    Ok(out)
+}
+
+/// Checks `got` = T^T A T entry by entry against the dense product of the same numbers.
+/// Each entry is a dot product of length n nested in another (T^T (A T), in whatever order
+/// either side sums): both computations are within gamma_{2n} (|T|^T |A| |T|)_pq of the
+/// exact value (gamma_k = k eps / (1 - k eps), Higham, Accuracy and Stability, 3.5), so
+/// they differ by at most twice that. A rigorous bound, not a guess.
+fn check_projection(name: &str, got: &Mat<f64>, a: &Mat<f64>, t: &Mat<f64>) -> Result<(), String> {
+    let (n, m) = (t.nrows(), t.ncols());
+    if (got.nrows(), got.ncols()) != (m, m) {
+        return Err(format!("{name} is {}x{}", got.nrows(), got.ncols()));
+    }
+    let mut at = Mat::<f64>::zeros(n, m);
+    let mut abs_at = Mat::<f64>::zeros(n, m);
+    for i in 0..n {
+        for j in 0..n {
+            let v = a[(i, j)];
+            if v != 0.0 {
+                for q in 0..m {
+                    at[(i, q)] += v * t[(j, q)];
+                    abs_at[(i, q)] += (v * t[(j, q)]).abs();
+                }
+            }
+        }
+    }
+    let gamma = |k: f64| k * f64::EPSILON / (1.0 - k * f64::EPSILON);
+    for p in 0..m {
+        for q in 0..m {
+            let (mut exact, mut magnitude) = (0.0, 0.0);
+            for i in 0..n {
+                exact += t[(i, p)] * at[(i, q)];
+                magnitude += t[(i, p)].abs() * abs_at[(i, q)];
+            }
+            let allowed = 2.0 * gamma(2.0 * n as f64) * magnitude;
+            if (got[(p, q)] - exact).abs() > allowed {
+                return Err(format!(
+                    "{name}[{p},{q}] = {} but dense {exact} (allowed {allowed:e})",
+                    got[(p, q)]
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Fixed-interface modes: the 4 lowest eigenvalues of (K_II, M_II), extracted as
+/// sub-matrices and solved by SLEPc (shift-and-invert with MUMPS), equal the dense ones
+/// (faer: M_II = L L^T, eigenvalues of L^-1 K_II L^-T). Hermitian problem, tolerance
+/// 1e-12: the eigenvalue error is O(residual^2), so 1e-9 relative is far above it.
+fn fixed_interface_modes(rt: &Runtime) -> Result<Vec<f64>, String> {
+    let comm = rt.world();
+    let el = element(comm)?;
+    let (i_set, _) = split_sets(comm, &el)?;
+    let k_ii = el.stiffness.submatrix(&i_set, &i_set).map_err(e)?;
+    let m_ii = el.mass.submatrix(&i_set, &i_set).map_err(e)?;
+    let count = 4;
+    let options = EigenOptions {
+        problem: EigenProblem::HermitianGeneralized,
+        spectrum: Spectrum::NearTarget { target: 0.0, count },
+        tolerance: 1e-12,
+        ..Default::default()
+    };
+    let mut eps = EigenSolver::new(comm, &k_ii, Some(&m_ii), &options).map_err(e)?;
+    let summary = eps.solve().map_err(e)?;
+    if summary.converged < count {
+        return Err(format!("{summary:?}"));
+    }
+    let mut found: Vec<f64> = (0..count)
+        .map(|i| eps.value(i).map(|v| v.re))
+        .collect::<Result<_, _>>()
+        .map_err(e)?;
+    found.sort_by(f64::total_cmp);
+
+    let k = dense_block(&el.stiffness_dense, &el.interior, &el.interior);
+    let m = dense_block(&el.mass_dense, &el.interior, &el.interior);
+    let l = m
+        .llt(Side::Lower)
+        .map_err(|x| format!("{x:?}"))?
+        .L()
+        .to_owned();
+    let mut l_inv = Mat::<f64>::identity(l.nrows(), l.nrows());
+    faer::linalg::triangular_solve::solve_lower_triangular_in_place(
+        l.as_ref(),
+        l_inv.as_mut(),
+        Par::Seq,
+    );
+    let c = &l_inv * &k * l_inv.transpose();
+    let exact = c
+        .self_adjoint_eigenvalues(Side::Lower)
+        .map_err(|x| format!("{x:?}"))?;
+    for (f, x) in found.iter().zip(&exact) {
+        if relative(*f, *x) > 1e-9 {
+            return Err(format!("eigenvalue {f} but dense {x}"));
+        }
+    }
+    Ok(found)
+}
+
+/// A block factorisation of a singular matrix is an Err on every rank, before any solve.
+fn singular_block_factorization(rt: &Runtime) -> Result<Vec<f64>, String> {
+    let comm = rt.world();
+    let n = 20;
+    let a = matrix(comm, n, |i| vec![(i, if i == n / 2 { 0.0 } else { 1.0 })])?;
+    match FactoredMatrix::new(comm, &a, DirectPackage::Mumps, Factorization::Lu) {
+        Ok(_) => Err("a singular matrix was factorised".into()),
+        Err(err) if !err.to_string().is_empty() => Ok(vec![1.0]),
+        Err(_) => Err("empty error message".into()),
+    }
+}
+
+/// A free-free steel tet10 block (3 x 2 x 1 cells, 315 equations, K and M from
+/// `fem::assemble`) whose interface is every DOF of its two end faces x0 and x1 (90
+/// equations). The constraint modes Psi from one MUMPS Cholesky with a block solve must
+/// (1) match faer's dense solve within the condition-based bound of
+/// `constraint_modes_block_solve` (condition 1.5e3, bound 9.8e-11, measured 2e-14), and
+/// (2) carry a rigid translation of the interface to the same translation of the interior,
+/// as K r = 0 demands (measured errors <= 2e-14). The Craig-Bampton basis
+/// T = [Psi; I] is then laid out in the model's own equation order (each rank its own
+/// rows, as the super-element code will), and K_r = T^T K T must equal the dense product
+/// within the rigorous rounding bound of [`check_projection`].
+fn tet10_craig_bampton(rt: &Runtime) -> Result<Vec<f64>, String> {
+    let comm = rt.world();
+    faer::set_global_parallelism(Par::Seq);
+    let steel = Material {
+        name: "steel".into(),
+        young: 210e9,
+        poisson: 0.3,
+        density: 7850.0,
+    };
+    let mesh = block([0.0; 3], [0.1, 0.04, 0.02], [3, 2, 1], steel)?;
+    let dofs = DofMap::new(mesh.nodes.len(), 0, &[], comm.size(), comm.rank())?;
+    let pattern = assemble::pattern(&dofs, mesh.elements.iter().map(|c| &c[..]));
+    let (k, _m) =
+        assemble::stiffness_and_mass(comm, &mesh, &dofs, &pattern, StructureOptions::default())
+            .map_err(|x| x.to_string())?;
+    let n = dofs.equations();
+    // The displacement component (x, y, z) of each equation.
+    let mut component = vec![0; n];
+    for node in 0..mesh.nodes.len() {
+        for c in 0..3 {
+            if let Some(eq) = dofs.equation(node, c) {
+                component[eq] = c;
+            }
+        }
+    }
+    let dofs = &dofs;
+    let mut boundary: Vec<usize> = ["x0", "x1"]
+        .iter()
+        .flat_map(|set| mesh.node_sets[*set].iter())
+        .flat_map(|&node| (0..3).filter_map(move |c| dofs.equation(node, c)))
+        .collect();
+    boundary.sort_unstable();
+    boundary.dedup();
+    let interior: Vec<usize> = (0..n)
+        .filter(|i| boundary.binary_search(i).is_err())
+        .collect();
+    let (lo, hi) = k.ownership_range().map_err(e)?;
+    let b_set = IndexSet::owned_subset(comm, lo..hi, &boundary).map_err(e)?;
+    let i_set = b_set.complement(lo..hi).map_err(e)?;
+    let mut k_ii = k.submatrix(&i_set, &i_set).map_err(e)?;
+    k_ii.mark_symmetric().map_err(e)?;
+    let k_ib = k.submatrix(&i_set, &b_set).map_err(e)?;
+    let factored = FactoredMatrix::new(comm, &k_ii, DirectPackage::Mumps, Factorization::Cholesky)
+        .map_err(e)?;
+    let mut psi = factored
+        .solve_block(&DenseMatrix::from_sparse(comm, &k_ib).map_err(e)?)
+        .map_err(e)?;
+    psi.scale(-1.0).map_err(e)?;
+    let psi_all = psi.to_faer().map_err(e)?;
+
+    // (1) Against the dense solve, as in constraint_modes_block_solve.
+    let k_dense = gathered(comm, &k)?;
+    let k_ii_dense = dense_block(&k_dense, &interior, &interior);
+    let k_ib_dense = dense_block(&k_dense, &interior, &boundary);
+    let reference = -k_ii_dense
+        .llt(Side::Lower)
+        .map_err(|x| format!("{x:?}"))?
+        .solve(&k_ib_dense);
+    let eigenvalues = k_ii_dense
+        .self_adjoint_eigenvalues(Side::Lower)
+        .map_err(|x| format!("{x:?}"))?;
+    let (lambda_max, condition) = (
+        eigenvalues[eigenvalues.len() - 1],
+        eigenvalues[eigenvalues.len() - 1] / eigenvalues[0],
+    );
+    let n_i = interior.len() as f64;
+    let solve_bound = 2.0 * 10.0 * n_i.sqrt() * f64::EPSILON * condition;
+    let column_error = |x: &Mat<f64>, y: &Mat<f64>, j: usize| {
+        let (mut diff, mut norm) = (0.0, 0.0);
+        for i in 0..x.nrows() {
+            diff += (x[(i, j)] - y[(i, j)]).powi(2);
+            norm += y[(i, j)].powi(2);
+        }
+        (diff / norm).sqrt()
+    };
+    let worst = (0..psi_all.ncols())
+        .map(|j| column_error(&psi_all, &reference, j))
+        .fold(0.0, f64::max);
+    if worst > solve_bound {
+        return Err(format!(
+            "Psi column error {worst:e} > {solve_bound:e} (condition {condition:.3e})"
+        ));
+    }
+
+    // (2) Rigid translations. The assembled K annihilates r only to its own rounding, so
+    // the exact solution of K_II x = -K_IB r_B is r_I plus K_II^-1 (K_II r_I + K_IB r_B):
+    // the bound adds condition * |K_II r_I + K_IB r_B| / (lambda_max |r_I|) to the solve's.
+    let mut rigid_errors = Vec::new();
+    for c in 0..3 {
+        let is_c = |eq: usize| component[eq] == c;
+        let r_b: Vec<f64> = boundary
+            .iter()
+            .map(|&b| f64::from(u8::from(is_c(b))))
+            .collect();
+        let r_i: Vec<f64> = interior
+            .iter()
+            .map(|&i| f64::from(u8::from(is_c(i))))
+            .collect();
+        let norm_i = r_i.iter().map(|x| x * x).sum::<f64>().sqrt();
+        let mut residual = 0.0;
+        let mut error = 0.0;
+        for i in 0..interior.len() {
+            let mut k_r = 0.0;
+            let mut psi_r = 0.0;
+            for (j, &rj) in r_i.iter().enumerate() {
+                k_r += k_ii_dense[(i, j)] * rj;
+            }
+            for (j, &rj) in r_b.iter().enumerate() {
+                k_r += k_ib_dense[(i, j)] * rj;
+                psi_r += psi_all[(i, j)] * rj;
+            }
+            residual += k_r * k_r;
+            error += (psi_r - r_i[i]).powi(2);
+        }
+        let (residual, error) = (residual.sqrt(), error.sqrt() / norm_i);
+        let bound = solve_bound + condition * residual / (lambda_max * norm_i);
+        if error > bound {
+            return Err(format!(
+                "Psi r_B differs from r_I by {error:e} (bound {bound:e}) in direction {c}"
+            ));
+        }
+        rigid_errors.push(error);
+    }
+    if comm.rank() == 0 {
+        eprintln!(
+            "tet10 block: condition {condition:.2e}, Psi error {worst:.2e} (bound \
+             {solve_bound:.2e}), rigid translation errors {rigid_errors:?}"
+        );
+    }
+
+    // The basis in the model's equation order: this rank's interior rows are Psi's local
+    // rows, in the same order (the interior index set is Psi's row layout); its boundary
+    // rows are rows of the identity.
+    let psi_local = psi.local_values().map_err(e)?;
+    let local_interior = i_set.indices().map_err(e)?;
+    let mut t = DenseMatrix::zeros(comm, hi - lo, boundary.len()).map_err(e)?;
+    t.write_local(|i, j| {
+        let g = lo + i;
+        match local_interior.binary_search(&g) {
+            Ok(k) => psi_local[(k, j)],
+            Err(_) => f64::from(u8::from(boundary[j] == g)),
+        }
+    })
+    .map_err(e)?;
+    let t_all = t.to_faer().map_err(e)?;
+    for (row, &g) in interior.iter().enumerate() {
+        for j in 0..boundary.len() {
+            if t_all[(g, j)] != psi_all[(row, j)] {
+                return Err(format!("T[{g},{j}] is not Psi[{row},{j}]"));
+            }
+        }
+    }
+    let k_r = k.project(&t).map_err(e)?;
+    check_projection("K_r", &k_r, &k_dense, &t_all)?;
+    // K_r (~1e10, steel in pascals) scaled to the size of Psi (~1), so that the comparison
+    // between rank counts, relative to the largest number, weighs both.
+    let scale = flatten(&k_r).iter().fold(0.0, |m: f64, x| m.max(x.abs()));
+    let mut out = flatten(&psi_all);
+    out.extend(flatten(&k_r).iter().map(|x| x / scale));
+    Ok(out)
 }

@@ -391,7 +391,17 @@ pub fn damped<'rt>(
             ..Default::default()
         };
         let mut pep = QuadraticEigenSolver::new(comm, stiffness, damping, mass, &pep_options)?;
-        let converged = pep.solve()?;
+        let summary = pep.solve()?;
+        if summary.reason < 0 {
+            tracing::warn!(
+                "damped CEA: SLEPc's PEP stopped (reason {}) after {} iterations with {} of {} pairs converged",
+                summary.reason,
+                summary.iterations,
+                summary.converged,
+                summary.requested
+            );
+        }
+        let converged = summary.converged;
         let mut values = Vec::with_capacity(converged);
         for i in 0..converged {
             let (value, re, im) = pep.pair(i, &template)?;

@@ -65,14 +65,16 @@ impl Default for EigenOptions {
     }
 }
 
-/// What a solve found.
+/// What an eigen-solve (EPS or PEP) found.
 #[derive(Clone, Debug, PartialEq)]
 pub struct EigenSummary {
     /// How many pairs were asked for (0 for an interval: unknown in advance).
     pub requested: usize,
     pub converged: usize,
     pub iterations: usize,
-    /// SLEPc's reason code (negative: stopped before all requested pairs converged).
+    /// SLEPc's reason code, EPSConvergedReason or PEPConvergedReason (both: 1 converged to
+    /// the tolerance, -1 out of iterations, -2 breakdown; negative: stopped before all
+    /// requested pairs converged).
     pub reason: i32,
 }
 

@@ -1,7 +1,9 @@
 //! Sparse matrices (`Mat`, parallel AIJ). The nonzero pattern is given first, exactly, so
 //! PETSc never allocates during assembly; values then go in as dense element blocks.
 
+use super::dense::{same_comm, DenseMatrix};
 use super::error::{check, PetscError, Result};
+use super::is::IndexSet;
 use super::runtime::{Comm, Runtime};
 use super::sys;
 use super::vec::{to_int, Vector};
@@ -301,6 +303,55 @@ impl<'rt> Matrix<'rt> {
             ))?;
             Ok(out)
         }
+    }
+
+    /// The sub-matrix of the rows in `rows` and the columns in `cols`, e.g. K_II, K_IB or
+    /// M_II of a super-element (collective; MatCreateSubMatrix with MAT_INITIAL_MATRIX, a
+    /// new matrix with its own copy of the values). This rank gets the rows of its part of
+    /// `rows`, normally rows it owns (as from [`IndexSet::owned_subset`]), and owns the
+    /// columns of its part of `cols`; with both sets made from one split of the ownership
+    /// ranges the sub-matrix is distributed like the original.
+    pub fn submatrix(&self, rows: &IndexSet<'rt>, cols: &IndexSet<'rt>) -> Result<Matrix<'rt>> {
+        let mut raw = std::ptr::null_mut();
+        // SAFETY: live matrix and index sets; out-pointer to a local.
+        check(unsafe {
+            sys::MatCreateSubMatrix(
+                self.raw,
+                rows.raw,
+                cols.raw,
+                sys::MAT_INITIAL_MATRIX,
+                &mut raw,
+            )
+        })?;
+        Ok(Matrix::from_raw(raw))
+    }
+
+    /// self * t for a dense block t whose rows are laid out like self's columns (collective;
+    /// MatMatMult). `t`'s communicator must be the one self lives on.
+    pub fn mult_dense(&self, t: &DenseMatrix<'rt>) -> Result<DenseMatrix<'rt>> {
+        same_comm(self.raw.cast(), t.comm())?;
+        let mut raw = std::ptr::null_mut();
+        // SAFETY: live matrices; PETSc checks that the layouts agree.
+        check(unsafe {
+            sys::MatMatMult(
+                self.raw,
+                t.raw,
+                sys::MAT_INITIAL_MATRIX,
+                sys::PETSC_DEFAULT as f64,
+                &mut raw,
+            )
+        })?;
+        Ok(DenseMatrix::from_raw(t.comm(), raw))
+    }
+
+    /// The projection T^T self T onto the columns of a distributed dense basis T (rows laid
+    /// out like self's rows and columns), e.g. K_r = T^T K T of a super-element. Collective:
+    /// A T by MatMatMult, then T^T (A T) by MatTransposeMatMult, whose m x m result is
+    /// gathered to every rank with the same bits on each (see [`DenseMatrix::to_faer`]).
+    /// Symmetric only to round-off when self is symmetric: not symmetrised here.
+    pub fn project(&self, t: &DenseMatrix<'rt>) -> Result<faer::Mat<f64>> {
+        let at = self.mult_dense(t)?;
+        t.transpose_mult(&at)
     }
 }
 

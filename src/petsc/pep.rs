@@ -1,6 +1,7 @@
 //! Quadratic eigenvalue problems (SLEPc `PEP`): (K + lambda C + lambda^2 M) x = 0, the damped
 //! complex eigenvalue analysis.
 
+use super::eps::EigenSummary;
 use super::error::{check, PetscError, Result};
 use super::ksp::{configure, LinearMethod};
 use super::mat::Matrix;
@@ -34,6 +35,7 @@ impl Default for QuadraticOptions {
 
 pub struct QuadraticEigenSolver<'rt> {
     raw: sys::PEP,
+    requested: usize,
     converged: usize,
     _rt: PhantomData<&'rt Runtime>,
 }
@@ -52,6 +54,7 @@ impl<'rt> QuadraticEigenSolver<'rt> {
         check(unsafe { sys::PEPCreate(comm.raw, &mut raw) })?;
         let solver = QuadraticEigenSolver {
             raw,
+            requested: options.count,
             converged: 0,
             _rt: PhantomData,
         };
@@ -85,16 +88,25 @@ impl<'rt> QuadraticEigenSolver<'rt> {
         Ok(solver)
     }
 
-    /// Runs the solver (collective); returns the number of converged pairs.
-    pub fn solve(&mut self) -> Result<usize> {
-        let mut n = 0;
-        // SAFETY: live PEP.
+    /// Runs the solver (collective). Returns what it found, as for EPS: fewer converged
+    /// pairs than requested is reported in the summary (with SLEPc's reason), not as an
+    /// error.
+    pub fn solve(&mut self) -> Result<EigenSummary> {
+        let (mut nconv, mut its, mut reason) = (0, 0, 0);
+        // SAFETY: live PEP; out-pointers to locals.
         unsafe {
             check(sys::PEPSolve(self.raw))?;
-            check(sys::PEPGetConverged(self.raw, &mut n))?;
+            check(sys::PEPGetConverged(self.raw, &mut nconv))?;
+            check(sys::PEPGetIterationNumber(self.raw, &mut its))?;
+            check(sys::PEPGetConvergedReason(self.raw, &mut reason))?;
         }
-        self.converged = n as usize;
-        Ok(self.converged)
+        self.converged = nconv as usize;
+        Ok(EigenSummary {
+            requested: self.requested,
+            converged: self.converged,
+            iterations: its as usize,
+            reason,
+        })
     }
 
     fn index(&self, i: usize) -> Result<sys::PetscInt> {

@@ -3,10 +3,10 @@
 
 use super::error::{check, record_error, PetscError, Result};
 use super::sys;
+use mpi::collective::SystemOperation;
 use mpi::topology::{Communicator, SimpleCommunicator};
-use mpi::traits::AsRaw;
+use mpi::traits::{AsRaw, CommunicatorCollectives};
 use std::ffi::{CStr, CString};
-use std::marker::PhantomData;
 use std::os::raw::c_char;
 
 /// How to start the runtime.
@@ -25,21 +25,33 @@ pub struct RuntimeOptions {
 pub struct Runtime {
     universe: Option<mpi::environment::Universe>,
     world: SimpleCommunicator,
+    self_comm: SimpleCommunicator,
     // PETSc keeps pointers into argv for its whole life.
     _argv: Vec<CString>,
     _argv_ptrs: Vec<*mut c_char>,
 }
 
-/// A communicator tied to the runtime: what PETSc objects are created on.
+/// A communicator tied to the runtime: what PETSc objects are created on. It carries rsmpi's
+/// communicator (owned by the [`Runtime`]), so reductions on plain Rust data go through
+/// rsmpi's safe collectives and the raw handle PETSc needs is the same communicator.
 #[derive(Clone, Copy)]
 pub struct Comm<'rt> {
     pub(super) raw: sys::MPI_Comm,
+    mpi: &'rt SimpleCommunicator,
     rank: usize,
     size: usize,
-    _rt: PhantomData<&'rt Runtime>,
 }
 
 impl<'rt> Comm<'rt> {
+    fn new(mpi: &'rt SimpleCommunicator) -> Comm<'rt> {
+        Comm {
+            raw: mpi.as_raw(),
+            mpi,
+            rank: mpi.rank() as usize,
+            size: mpi.size() as usize,
+        }
+    }
+
     /// This process's rank in the communicator.
     pub fn rank(&self) -> usize {
         self.rank
@@ -52,57 +64,37 @@ impl<'rt> Comm<'rt> {
     pub fn raw(&self) -> sys::MPI_Comm {
         self.raw
     }
+    /// rsmpi's view of this communicator, for collectives on plain Rust data.
+    pub fn mpi(&self) -> &'rt SimpleCommunicator {
+        self.mpi
+    }
+
+    // The reductions below go through rsmpi's safe collectives, which return no error code:
+    // squeal installs no MPI error handler of its own, so under MPI's default
+    // (MPI_ERRORS_ARE_FATAL) a failed collective aborts the job rather than returning.
 
     /// Whether `flag` holds on every rank (collective). Used before a collective PETSc call
     /// so that a failure seen by one rank stops all of them instead of leaving the others
     /// waiting.
     pub fn all(&self, flag: bool) -> bool {
-        let local = i32::from(flag);
-        let mut global = 0i32;
-        // SAFETY: one i32 each way on a live communicator.
-        unsafe {
-            sys::MPI_Allreduce(
-                (&local as *const i32).cast(),
-                (&mut global as *mut i32).cast(),
-                1,
-                sys::RSMPI_INT32_T,
-                sys::RSMPI_LAND,
-                self.raw,
-            );
-        }
-        global != 0
+        let mut global = false;
+        self.mpi
+            .all_reduce_into(&flag, &mut global, SystemOperation::logical_and());
+        global
     }
 
     /// Element-wise sum of `values` over all ranks, in place (collective).
     pub fn sum_in_place(&self, values: &mut [f64]) {
         let local = values.to_vec();
-        // SAFETY: equal-length f64 buffers on a live communicator.
-        unsafe {
-            sys::MPI_Allreduce(
-                local.as_ptr().cast(),
-                values.as_mut_ptr().cast(),
-                values.len() as i32,
-                sys::RSMPI_DOUBLE,
-                sys::RSMPI_SUM,
-                self.raw,
-            );
-        }
+        self.mpi
+            .all_reduce_into(&local[..], values, SystemOperation::sum());
     }
 
     /// Element-wise maximum over all ranks, in place (collective).
     pub fn max_in_place(&self, values: &mut [f64]) {
         let local = values.to_vec();
-        // SAFETY: as sum_in_place.
-        unsafe {
-            sys::MPI_Allreduce(
-                local.as_ptr().cast(),
-                values.as_mut_ptr().cast(),
-                values.len() as i32,
-                sys::RSMPI_DOUBLE,
-                sys::RSMPI_MAX,
-                self.raw,
-            );
-        }
+        self.mpi
+            .all_reduce_into(&local[..], values, SystemOperation::max());
     }
 }
 
@@ -148,6 +140,7 @@ impl Runtime {
         Ok(Runtime {
             universe: Some(universe),
             world,
+            self_comm: SimpleCommunicator::self_comm(),
             _argv: argv,
             _argv_ptrs: argv_ptrs,
         })
@@ -155,23 +148,12 @@ impl Runtime {
 
     /// All ranks of the job.
     pub fn world(&self) -> Comm<'_> {
-        Comm {
-            raw: self.world.as_raw(),
-            rank: self.world.rank() as usize,
-            size: self.world.size() as usize,
-            _rt: PhantomData,
-        }
+        Comm::new(&self.world)
     }
 
     /// This rank alone (for per-rank sequential objects).
     pub fn self_comm(&self) -> Comm<'_> {
-        Comm {
-            // SAFETY: a constant handle exported by rsmpi's C shim.
-            raw: unsafe { sys::RSMPI_COMM_SELF },
-            rank: 0,
-            size: 1,
-            _rt: PhantomData,
-        }
+        Comm::new(&self.self_comm)
     }
 
     /// rsmpi's view of the world communicator, for collectives on plain Rust data.
