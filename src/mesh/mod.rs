@@ -5,6 +5,8 @@ pub mod abaqus;
 pub mod block;
 pub mod brake;
 mod error;
+#[cfg(test)]
+mod fingerprint;
 pub mod gmsh;
 mod model;
 pub mod vtu;
