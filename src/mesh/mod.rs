@@ -9,6 +9,7 @@ mod error;
 mod fingerprint;
 pub mod gmsh;
 mod model;
+pub mod structured;
 pub mod vtu;
 
 pub use error::MeshError;
