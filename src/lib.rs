@@ -11,3 +11,4 @@ pub mod fem;
 pub mod mesh;
 pub mod petsc;
 pub mod study;
+pub mod vector3;

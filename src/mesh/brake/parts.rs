@@ -296,7 +296,7 @@ mod tests {
     use super::*;
     use crate::mesh::brake::test_geometry::*;
     use crate::mesh::brake::{build, preset, PRESETS};
-    use crate::mesh::model::{dot, sub};
+    use crate::vector3::{dot, sub};
     use std::collections::HashMap;
 
     #[test]

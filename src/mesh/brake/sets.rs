@@ -115,7 +115,7 @@ mod tests {
     use super::*;
     use crate::mesh::brake::build;
     use crate::mesh::brake::test_geometry::*;
-    use crate::mesh::model::dot;
+    use crate::vector3::dot;
     use std::f64::consts::PI;
 
     #[test]

@@ -3,8 +3,8 @@
 
 use super::parts::jacobian_det;
 use super::{build, preset, BrakeParams};
-use crate::mesh::model::{cross, dot};
 use crate::mesh::{Face, Mesh, Part};
+use crate::vector3::{cross, dot};
 
 pub(super) fn tiny() -> (BrakeParams, Mesh) {
     let p = preset("tiny").unwrap();
