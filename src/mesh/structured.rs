@@ -230,6 +230,11 @@ impl Grid {
         cell_tag: impl Fn([usize; 3]) -> Option<T>,
         map: impl Fn([f64; 3]) -> [f64; 3],
     ) -> Meshed<T> {
+        // Callers validate their sizes first; an empty axis here is a bug, not bad input.
+        assert!(
+            self.lines.iter().all(|l| l.len() >= 2),
+            "a structured grid needs at least one cell per axis"
+        );
         let cells = self.cells();
         let sweep = numbering.sweep;
         let tets = numbering.tets.tets();
@@ -248,6 +253,8 @@ impl Grid {
                     };
                     for tet in &tets {
                         let corners = tet.map(|off| [0, 1, 2].map(|x| 2 * (cell[x] + off[x])));
+                        // Internal TET10 order = Abaqus C3D10: corners 1-4, then the mid-edge
+                        // nodes of edges 1-2, 2-3, 3-1, 1-4, 2-4, 3-4.
                         let mut element = [0usize; 10];
                         for (k, corner) in corners.iter().enumerate() {
                             element[k] = self.key(sweep, *corner);
