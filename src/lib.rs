@@ -13,3 +13,4 @@ pub mod mesh;
 pub mod model;
 pub mod petsc;
 pub mod study;
+pub mod vector3;

@@ -70,31 +70,6 @@ fn format_examples(examples: &[(i64, [f64; 3])]) -> String {
         .join("; ")
 }
 
-// Small vector helpers on [f64; 3].
-
-pub(crate) fn add(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
-}
-pub(crate) fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-pub(crate) fn scale(s: f64, a: [f64; 3]) -> [f64; 3] {
-    [s * a[0], s * a[1], s * a[2]]
-}
-pub(crate) fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-pub(crate) fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-pub(crate) fn norm(a: [f64; 3]) -> f64 {
-    dot(a, a).sqrt()
-}
-
 /// Node groups coupled by the contact pairs (a point's slave and master nodes), for the
 /// matrix pattern.
 pub fn contact_groups(pairs: &[pair::ContactPair]) -> Vec<Vec<usize>> {

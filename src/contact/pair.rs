@@ -11,8 +11,9 @@
 //! initial gap `g0 = n . (x_s - x_m)`, the tributary area and the sliding direction `t`.
 
 use super::project::{SearchOptions, SurfaceSearch};
-use super::{cross, dot, norm, scale, sub, ContactError};
+use super::ContactError;
 use crate::mesh::{Mesh, Surface};
+use crate::vector3::{cross, dot, norm, scale, sub};
 
 /// Direction in which the master surface slides under the slave one: the direction of the
 /// friction force on the slave.
@@ -515,7 +516,7 @@ mod tests {
             assert!((p.normal[2] - 1.0).abs() < 1e-15);
             // The master point is the slave node's position: sum N_j x_j = x_s.
             let xm = p.master.iter().fold([0.0; 3], |acc, &(n, w)| {
-                crate::contact::add(acc, scale(w, mesh.nodes[n]))
+                crate::vector3::add(acc, scale(w, mesh.nodes[n]))
             });
             assert!(norm(sub(xm, p.position)) < 1e-15);
             let wsum: f64 = p.master.iter().map(|(_, w)| w).sum();

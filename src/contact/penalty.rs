@@ -25,7 +25,8 @@
 //! METHOD.md as written.
 
 use super::pair::{ContactPair, ContactPoint, SlidingDirection};
-use super::{add, cross, dot, norm, scale, sub, ContactError};
+use super::ContactError;
+use crate::vector3::{add, cross, dot, norm, scale, sub};
 
 /// The state of one contact point for a displacement field.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -250,8 +251,8 @@ mod tests {
     use crate::contact::pair::{node_to_node, node_to_surface, PairSettings, SlidingDirection};
     use crate::contact::project::SearchOptions;
     use crate::contact::test_models::pad_on_disc;
-    use crate::contact::{cross, norm, sub};
     use crate::mesh::Mesh;
+    use crate::vector3::{cross, norm, sub};
 
     struct Lcg(u64);
     impl Lcg {

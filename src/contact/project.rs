@@ -14,8 +14,8 @@
 //! in-face tolerance and the normal distance is within the largest distance allowed; among
 //! those the one with the closest point nearest to the point wins.
 
-use super::{dot, norm, sub};
 use crate::fem::element;
+use crate::vector3::{dot, norm, sub};
 use std::collections::HashSet;
 
 /// Tolerances of the master-surface search.
@@ -565,8 +565,8 @@ impl SurfaceSearch {
 #[allow(clippy::needless_range_loop)]
 mod tests {
     use super::*;
-    use crate::contact::{add, scale};
     use crate::fem::tet10;
+    use crate::vector3::{add, scale};
 
     /// A curved face: the flat corner triangle (0,0,0), (1,0,0), (0,1,0) with its mid-side
     /// nodes lifted out of the plane and moved along the edges.

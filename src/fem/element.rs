@@ -19,6 +19,7 @@
 //! Nothing here allocates: the assembly calls these routines once per element.
 
 use crate::fem::tet10::{self, Rule, GAUSS_4, RADON_7, WALKINGTON_14};
+use crate::vector3::cross;
 
 /// Degrees of freedom of one element (10 nodes x 3 components).
 pub const DOFS: usize = 30;
@@ -304,14 +305,6 @@ pub fn volume(x: &[[f64; 3]; 10]) -> Result<f64, ElementError> {
         v += w * checked_determinant(x, *p, q)?;
     }
     Ok(v)
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
 }
 
 /// Position on a 6-node face at face parametric point `q = [s, t]`.

@@ -2802,8 +2802,8 @@ fn free_faces(mesh: &Mesh, elements: &[usize]) -> Vec<Face> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::mesh::model::{cross, dot, sub};
     use crate::mesh::TET10_EDGES;
+    use crate::vector3::{cross, dot, sub};
     use std::fmt::Write as _;
 
     // --- helpers ------------------------------------------------------------------------

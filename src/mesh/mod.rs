@@ -5,8 +5,11 @@ pub mod abaqus;
 pub mod block;
 pub mod brake;
 mod error;
+#[cfg(test)]
+mod fingerprint;
 pub mod gmsh;
 mod model;
+pub mod structured;
 pub mod vtu;
 
 pub use error::MeshError;

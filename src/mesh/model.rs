@@ -5,6 +5,8 @@
 
 use std::collections::BTreeMap;
 
+use crate::vector3::{cross, dot, sub};
+
 /// Internal TET10 node order (the Abaqus/CalculiX C3D10 order, 0-based):
 ///
 /// ```text
@@ -212,20 +214,6 @@ impl Mesh {
         }
         Ok(out)
     }
-}
-
-pub(crate) fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-pub(crate) fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-pub(crate) fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
 }
 
 #[cfg(test)]
