@@ -1,5 +1,5 @@
 //! The mesh stage: the model's geometry and topology as plain Rust data, the readers that
-//! make it from files, the built-in brake, and the VTU writer that shows it.
+//! make it from files, and the built-in brake.
 
 pub mod abaqus;
 pub mod block;
@@ -7,7 +7,6 @@ pub mod brake;
 mod error;
 pub mod gmsh;
 mod model;
-pub mod vtu;
 
 pub use error::MeshError;
 pub use model::*;

@@ -12,7 +12,7 @@ use crate::analysis::tracking::{self, Instability, SweepPoint, Track, TrackingOp
 use crate::contact::{self, ContactPair, PairSettings, SearchOptions};
 use crate::fem::springs::{add_ground_springs, GroundSpring};
 use crate::fem::{assemble, DofMap, StructureOptions, Support};
-use crate::mesh::vtu::{Field, VtuWriter};
+use crate::io::vtu::{Field, VtuWriter};
 use crate::mesh::{brake, Face, Mesh};
 use crate::petsc::{Comm, Matrix, Runtime, Structure, Vector};
 use anyhow::{anyhow, Context};

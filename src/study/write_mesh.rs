@@ -3,7 +3,7 @@
 
 use super::modes::load_model;
 use crate::fem::element;
-use crate::mesh::vtu::{Field, VtuWriter};
+use crate::io::vtu::{Field, VtuWriter};
 use crate::mesh::{gmsh, Mesh};
 use crate::petsc::Runtime;
 use std::path::{Path, PathBuf};
