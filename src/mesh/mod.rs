@@ -5,7 +5,6 @@ pub mod abaqus;
 pub mod block;
 pub mod brake;
 mod error;
-pub mod gmsh;
 mod model;
 
 pub use error::MeshError;
