@@ -1,7 +1,7 @@
-//! The mesh stage: the model's geometry and topology as plain Rust data, the readers that
-//! make it from files, and the built-in brake.
+//! The mesh stage: the model's geometry and topology as plain Rust data, the built-in brake
+//! and the block mesher, and the errors of reading and writing meshes (the readers and
+//! writers themselves are in [`crate::io`]).
 
-pub mod abaqus;
 pub mod block;
 pub mod brake;
 mod error;

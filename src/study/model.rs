@@ -2,8 +2,8 @@
 //! built-in brake, plus the supports, materials and loads that go with it.
 
 use crate::fem::Support;
-use crate::io::gmsh;
-use crate::mesh::{abaqus, brake, Face, Material, Mesh, MeshError};
+use crate::io::{abaqus, gmsh};
+use crate::mesh::{brake, Face, Material, Mesh, MeshError};
 use std::path::{Path, PathBuf};
 
 /// The plain data of a structural model: mesh, supports, loads, and what the file asked for.
