@@ -12,7 +12,7 @@
 //! | `*NSET` / `*ELSET` (`GENERATE`, set names in data, `*NSET, ELSET=`) | node / element sets |
 //! | `*SURFACE, TYPE=ELEMENT` / `TYPE=NODE` | [`Mesh::surfaces`] / a node set listed in [`Deck::node_surfaces`] |
 //! | `*MATERIAL, NAME=`, `*ELASTIC` (isotropic), `*DENSITY` | [`Mesh::materials`] |
-//! | `*SOLID SECTION, ELSET=, MATERIAL=` | one [`Part`] per section |
+//! | `*SOLID SECTION, ELSET=, MATERIAL=` | one [`Part`](crate::mesh::Part) per section |
 //! | `*BOUNDARY`, `*CLOAD`, `*DSLOAD`, `*DLOAD` | [`Boundary`], [`ConcentratedLoad`], [`PressureLoad`] |
 //! | `*STEP` ... `*END STEP`, `*STATIC`, `*FREQUENCY` | [`Step`] |
 //!

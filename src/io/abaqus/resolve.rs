@@ -12,8 +12,6 @@ use super::*;
 use crate::mesh::{Face, Material, Mesh, MeshError, Part, Surface};
 
 impl Reader {
-    // --- resolution -----------------------------------------------------------------------
-
     pub(super) fn finish(mut self) -> Result<Deck, MeshError> {
         // Connectivity: labels to indices.
         let mut elements = Vec::with_capacity(self.elements.len());

@@ -165,7 +165,7 @@ pub(super) fn beam_deck() -> String {
     let n = [10, 2, 2];
     let mut s = String::from(
         "*HEADING\nCantilever beam 0.1 x 0.01 x 0.01 m, 10 x 2 x 2 cubes of 6 C3D10, steel, \
-         clamped at x = 0\n** Written by write_beam_deck in src/mesh/abaqus.rs (squeal).\n",
+         clamped at x = 0\n** Written by write_beam_deck in src/io/abaqus/mod.rs (squeal).\n",
     );
     s.push_str(&box_mesh(n, [0.1, 0.01, 0.01], "EBEAM"));
     s.push_str("*NSET, NSET=FIX\n");

@@ -28,7 +28,7 @@ pub(super) struct RawElement {
     pub(super) loc: Loc,
 }
 
-/// Everything the sections said, resolved afterwards by [`build`].
+/// Everything the sections said, resolved afterwards by [`build`](super::build::build).
 #[derive(Default)]
 pub(super) struct Raw {
     pub(super) names: HashMap<(i32, i32), String>,
