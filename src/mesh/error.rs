@@ -34,6 +34,13 @@ pub enum MeshError {
 }
 
 impl MeshError {
+    pub fn io(file: impl Into<PathBuf>, source: std::io::Error) -> Self {
+        MeshError::Io {
+            file: file.into(),
+            source,
+        }
+    }
+
     pub fn parse(file: impl Into<PathBuf>, line: usize, message: impl Into<String>) -> Self {
         MeshError::Parse {
             file: file.into(),

@@ -4,7 +4,8 @@
 
 use super::{Model, ModelError, Pressure};
 use crate::fem::Support;
-use crate::mesh::{abaqus, brake, gmsh, Material, Mesh};
+use crate::io::{abaqus, gmsh};
+use crate::mesh::{brake, Material, Mesh};
 use std::path::Path;
 
 /// The built-in brake's supports for a structure without contact: the disc clamped at its

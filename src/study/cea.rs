@@ -2,10 +2,10 @@
 //! program (Matrix Market, CalculiX MATRIXSTORAGE, Abaqus *MATRIX GENERATE), and the CEA
 //! report shared with the brake study.
 
-use super::matrix_file;
 use super::report::{collective, write_atomically};
 use crate::analysis::cea::{self, CeaOptions, ComplexMode};
 use crate::analysis::operators::matrix_from_entries;
+use crate::io::matrix;
 use crate::petsc::Runtime;
 use anyhow::Context;
 use std::path::{Path, PathBuf};
@@ -92,7 +92,7 @@ pub fn run(rt: &Runtime, args: &CeaArgs) -> anyhow::Result<()> {
     let started = Instant::now();
     let set = collective(
         comm,
-        matrix_file::read_pair(&args.stiffness, &args.mass, args.damping.as_deref()),
+        matrix::read_pair(&args.stiffness, &args.mass, args.damping.as_deref()),
     )?;
     let n = set.stiffness.rows;
     if root {

@@ -5,7 +5,6 @@ pub mod blas;
 pub mod cea;
 pub mod config;
 pub mod info;
-pub mod matrix_file;
 pub mod modes;
 pub mod plot;
 pub mod report;

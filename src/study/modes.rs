@@ -5,7 +5,7 @@ use super::report::{collective, write_atomically};
 use crate::analysis::modes::{real_modes, ModeBand, ModesOptions, RealMode};
 use crate::analysis::restraint;
 use crate::fem::{assemble, element::MassRule, DofMap, StructureOptions};
-use crate::mesh::vtu::{Field, VtuWriter};
+use crate::io::vtu::{Field, VtuWriter};
 use crate::model::{source, Model, ModelError};
 use crate::petsc::Runtime;
 use anyhow::Context;

@@ -3,8 +3,9 @@
 
 use super::modes::load_model;
 use crate::fem::element;
-use crate::mesh::vtu::{Field, VtuWriter};
-use crate::mesh::{gmsh, Mesh};
+use crate::io::gmsh;
+use crate::io::vtu::{Field, VtuWriter};
+use crate::mesh::Mesh;
 use crate::petsc::Runtime;
 use std::path::{Path, PathBuf};
 

@@ -5,7 +5,7 @@ use super::PointFields;
 use crate::analysis::cea::{ComplexMode, RayleighDamping};
 use crate::analysis::tracking::{self, Instability, SweepPoint, Track};
 use crate::contact::PairSummary;
-use crate::mesh::vtu::{Field, VtuWriter};
+use crate::io::vtu::{Field, VtuWriter};
 use crate::mesh::Mesh;
 use crate::study::report::write_atomically;
 use std::path::Path;

@@ -16,7 +16,6 @@
 use std::io::Write;
 use std::path::Path;
 
-use crate::mesh::gmsh::write_atomically;
 use crate::mesh::{Mesh, MeshError};
 
 /// VTK cell type of a 10-node tetrahedron (`VTK_QUADRATIC_TETRA`).
@@ -82,7 +81,8 @@ pub enum Encoding {
 /// fields one per element followed by one per extra point.
 ///
 /// ```no_run
-/// # use squeal::mesh::{Mesh, vtu::{Field, VtuWriter}};
+/// # use squeal::io::vtu::{Field, VtuWriter};
+/// # use squeal::mesh::Mesh;
 /// # fn f(mesh: &Mesh, u: &[[f64; 3]]) -> Result<(), squeal::mesh::MeshError> {
 /// let shape = Field::vector("mode 1", u);
 /// let parts = Field::part_ids(mesh, 0);
@@ -200,7 +200,8 @@ impl<'a> VtuWriter<'a> {
     /// half-written file).
     pub fn write(&self, path: &Path) -> Result<(), MeshError> {
         self.check(path)?;
-        write_atomically(path, |out| self.write_xml(out))
+        crate::atomic_file::write_with(path, |out| self.write_xml(out))
+            .map_err(|source| MeshError::io(path, source))
     }
 
     /// The file's contents; `file` only names the target in error messages.

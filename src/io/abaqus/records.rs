@@ -1,0 +1,140 @@
+//! The public records a deck is read into: supports, loads, procedures and steps, each with
+//! the file and line it came from.
+
+use std::fmt;
+use std::path::PathBuf;
+
+use crate::mesh::Face;
+
+/// A file and 1-based line number in the deck (for messages further down the pipeline).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct SourceLine {
+    pub file: PathBuf,
+    pub line: usize,
+}
+
+impl fmt::Display for SourceLine {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}:{}", self.file.display(), self.line)
+    }
+}
+
+/// What a `*BOUNDARY` or `*CLOAD` line names.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum NodeTarget {
+    /// A node set (or node-based surface), by its upper-case name.
+    Set(String),
+    /// One node, by its label in the file.
+    Node(i64),
+}
+
+/// One `*BOUNDARY` line: prescribed displacement `value` on DOFs `first_dof..=last_dof`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Boundary {
+    pub target: NodeTarget,
+    /// Internal node indices of the target, sorted.
+    pub nodes: Vec<usize>,
+    /// Abaqus DOF numbers, 1 = x, 2 = y, 3 = z, with `1 <= first_dof <= last_dof <= 3`.
+    pub first_dof: u8,
+    pub last_dof: u8,
+    pub value: f64,
+    pub source: SourceLine,
+}
+
+/// One `*CLOAD` line: force `value` on DOF `dof` of every target node.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ConcentratedLoad {
+    pub target: NodeTarget,
+    /// Internal node indices of the target, sorted.
+    pub nodes: Vec<usize>,
+    /// Abaqus DOF number, 1..=3.
+    pub dof: u8,
+    pub value: f64,
+    pub source: SourceLine,
+}
+
+/// What a pressure line names.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum PressureTarget {
+    /// `*DSLOAD` on an element-based surface (upper-case name).
+    Surface(String),
+    /// `*DLOAD` on an element set (upper-case name).
+    ElementSet(String),
+    /// `*DLOAD` on one element, by its label in the file.
+    Element(i64),
+}
+
+/// One `*DSLOAD` or `*DLOAD` line: uniform pressure on a list of faces.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PressureLoad {
+    pub target: PressureTarget,
+    pub faces: Vec<Face>,
+    /// Pressure, Abaqus sign: positive pushes into the element.
+    pub value: f64,
+    pub source: SourceLine,
+}
+
+/// The `*FREQUENCY` request (see the module documentation for the field layouts).
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct FrequencyRequest {
+    /// Number of eigenvalues wanted (`None`: blank, i.e. all in the range).
+    pub eigenvalues: Option<usize>,
+    /// Lower end of the frequency range of interest, cycles per time.
+    pub lower_frequency: Option<f64>,
+    /// Upper end of the frequency range of interest, cycles per time.
+    pub upper_frequency: Option<f64>,
+    /// Shift point, cycles per time.
+    pub shift: Option<f64>,
+}
+
+/// The `*STATIC` data line (time incrementation), blanks as `None`.
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct StaticRequest {
+    pub initial_increment: Option<f64>,
+    pub time_period: Option<f64>,
+    pub minimum_increment: Option<f64>,
+    pub maximum_increment: Option<f64>,
+}
+
+/// The analysis procedure of a step.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Procedure {
+    Static(StaticRequest),
+    Frequency(FrequencyRequest),
+    /// A procedure this reader recognises but does not read, e.g. `*COMPLEX FREQUENCY`.
+    Unsupported {
+        keyword: String,
+    },
+}
+
+/// Which kinds of load had `OP=NEW` in a step (everything of that kind in force before the
+/// step is removed).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub struct Replaced {
+    pub boundaries: bool,
+    pub concentrated_loads: bool,
+    /// `*DSLOAD`.
+    pub surface_pressures: bool,
+    /// `*DLOAD`.
+    pub element_pressures: bool,
+}
+
+/// One `*STEP` ... `*END STEP`, with the supports and loads defined inside it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Step {
+    /// `NAME=` on `*STEP`.
+    pub name: Option<String>,
+    /// The optional data line of `*STEP`.
+    pub title: Option<String>,
+    pub procedure: Procedure,
+    /// A linear-perturbation step: its own supports and loads act in this step only.
+    pub perturbation: bool,
+    /// `NLGEOM` on `*STEP`.
+    pub nlgeom: bool,
+    pub boundaries: Vec<Boundary>,
+    pub concentrated_loads: Vec<ConcentratedLoad>,
+    pub pressures: Vec<PressureLoad>,
+    pub replaced: Replaced,
+    /// The `*STEP` line.
+    pub source: SourceLine,
+}
