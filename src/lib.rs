@@ -1,7 +1,7 @@
 //! squeal: brake-squeal prediction on industrial-size finite-element models, and how far a
 //! reduced model can stand in for the full one (Fazio, Nacivet, Sinou 2015).
 //!
-//! Stages, each using only the ones before it: [`mesh`] -> [`fem`] -> analysis -> reduction
+//! Stages, each using only the ones before it: [`mesh`] -> [`fem`] -> analysis -> [`reduce`]
 //! -> study. [`petsc`] is the only module with `unsafe`.
 
 pub mod analysis;
@@ -10,4 +10,5 @@ pub mod contact;
 pub mod fem;
 pub mod mesh;
 pub mod petsc;
+pub mod reduce;
 pub mod study;
