@@ -9,6 +9,7 @@ pub mod matrix_file;
 pub mod model;
 pub mod modes;
 pub mod plot;
+pub mod radius;
 pub mod report;
 pub mod sweep;
 pub mod write_mesh;
