@@ -349,6 +349,52 @@ mod tests {
     }
 
     #[test]
+    fn a_grid_couples_every_reduced_node_and_passes_the_whole_load() {
+        use crate::reduce::grid::{isometric_grid, GridSize};
+        use crate::reduce::radius::grid_optimal;
+        let mesh = plate();
+        let surface = &mesh.surfaces["z1"];
+        let grid = isometric_grid(&mesh, surface, GridSize::Count(22)).unwrap();
+        let (factor, _) = grid_optimal(Weighting::Cubic).unwrap();
+        let couplings = couple_grid(
+            &mesh,
+            surface,
+            &grid,
+            factor * grid.spacing,
+            Weighting::Cubic,
+        )
+        .unwrap();
+        assert_eq!(couplings.len(), grid.count());
+        // A pressure p carried by the reduced contact nodes (p times each node's tributary
+        // area) reaches the surface nodes whole.
+        let p = -2.5e5;
+        let mut total = [0.0; 3];
+        for (c, node) in couplings.iter().zip(&grid.nodes) {
+            assert_eq!(c.reference, node.position);
+            for (_, f) in c.distribute(scale(p * node.area, node.normal)) {
+                total = add(total, f);
+            }
+        }
+        let expect = p * grid.surface_area;
+        assert!(
+            (total[2] - expect).abs() < 1e-12 * expect.abs(),
+            "{total:?}"
+        );
+        // Too small a radius names the first reduced contact node it fails for.
+        let err = couple_grid(&mesh, surface, &grid, 1e-3, Weighting::Cubic).unwrap_err();
+        assert!(
+            matches!(
+                err,
+                ReduceError::TooFewCouplingNodes {
+                    reduced_node: 0,
+                    ..
+                }
+            ),
+            "{err}"
+        );
+    }
+
+    #[test]
     fn too_few_or_collinear_nodes_is_an_error_naming_the_reduced_node() {
         let mesh = plate();
         let surface = &mesh.surfaces["z1"];

@@ -23,8 +23,10 @@ use crate::contact::tributary_areas;
 use crate::fem::element;
 use crate::mesh::{Mesh, Surface};
 
-/// What the user gives: a number of reduced contact nodes per pad, or the grid side h.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// What the user gives: a number of reduced contact nodes per pad, or the grid side h
+/// (in a study file `{ count = 52 }` or `{ spacing = 0.01 }`).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
 pub enum GridSize {
     /// This many reduced contact nodes on the surface (h is found).
     Count(usize),
@@ -815,23 +817,25 @@ mod tests {
 
     #[test]
     fn paper_counts_on_the_built_in_brake_pads() {
-        let mesh = brake::build(&brake::preset("tiny").unwrap()).unwrap();
-        for name in ["pad_inboard_friction_face", "pad_outboard_friction_face"] {
-            let surface = &mesh.surfaces[name];
-            for size in GridSize::paper_presets() {
-                let grid = isometric_grid(&mesh, surface, size).unwrap();
-                eprintln!("tiny brake: {}", grid.summary());
-                check_areas(&grid);
-                let GridSize::Count(n) = size else {
-                    unreachable!()
-                };
-                assert!(grid.count_met, "{}", grid.summary());
-                assert_eq!(grid.count(), n);
-                // The friction faces are flat: the nodes lie on them, normals along the plane's.
-                for node in &grid.nodes {
-                    let x = surface.faces[node.face].nodes.map(|k| mesh.nodes[k]);
-                    assert!(project_on_face(&x, node.position).distance < 1e-12);
-                    assert!(dot(node.normal, grid.plane.normal) > 1.0 - 1e-12);
+        for preset in ["tiny", "small"] {
+            let mesh = brake::build(&brake::preset(preset).unwrap()).unwrap();
+            for name in ["pad_inboard_friction_face", "pad_outboard_friction_face"] {
+                let surface = &mesh.surfaces[name];
+                for size in GridSize::paper_presets() {
+                    let grid = isometric_grid(&mesh, surface, size).unwrap();
+                    eprintln!("{preset} brake: {}", grid.summary());
+                    check_areas(&grid);
+                    let GridSize::Count(n) = size else {
+                        unreachable!()
+                    };
+                    assert!(grid.count_met, "{}", grid.summary());
+                    assert_eq!(grid.count(), n);
+                    // The friction faces are flat: the nodes lie on them, normals along the plane's.
+                    for node in &grid.nodes {
+                        let x = surface.faces[node.face].nodes.map(|k| mesh.nodes[k]);
+                        assert!(project_on_face(&x, node.position).distance < 1e-12);
+                        assert!(dot(node.normal, grid.plane.normal) > 1.0 - 1e-12);
+                    }
                 }
             }
         }
@@ -927,6 +931,14 @@ mod tests {
                 Err(ReduceError::InvalidSize { .. })
             ));
         }
+    }
+
+    #[test]
+    fn grid_sizes_read_as_count_or_spacing() {
+        let count: GridSize = serde_json::from_str(r#"{"count": 52}"#).unwrap();
+        assert_eq!(count, GridSize::Count(52));
+        let spacing: GridSize = serde_json::from_str(r#"{"spacing": 0.01}"#).unwrap();
+        assert_eq!(spacing, GridSize::Spacing(0.01));
     }
 
     #[test]
