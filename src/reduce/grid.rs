@@ -476,7 +476,7 @@ impl ProjectedSurface {
     /// h is tried outward from the estimate `h0` at which `count` cells of the grid cover the
     /// surface (alternately above and below), every origin and orientation at each h; the
     /// first exact count wins, so among exact layouts the one whose nodes' mean share is
-    /// nearest a full cell. Without one, the nearest count, nearest `h0` first.
+    /// nearest a full cell. Without one, the nearest count other than 0, nearest `h0` first.
     fn search(&self, count: usize) -> (f64, [f64; 2], f64, bool) {
         let h0 = (self.area / (count as f64 * 0.75f64.sqrt())).sqrt();
         let steps = (H_RANGE.ln() / H_STEP).ceil() as i64;
@@ -491,8 +491,9 @@ impl ProjectedSurface {
                     if found == count {
                         return (h, fraction, angle, true);
                     }
+                    // No node is never the nearest count: a pad needs one.
                     let miss = found.abs_diff(count);
-                    if best.is_none_or(|(m, ..)| miss < m) {
+                    if found > 0 && best.is_none_or(|(m, ..)| miss < m) {
                         best = Some((miss, h, fraction, angle));
                     }
                 }
@@ -931,6 +932,31 @@ mod tests {
                 Err(ReduceError::InvalidSize { .. })
             ));
         }
+    }
+
+    #[test]
+    fn a_count_no_layout_reaches_gives_the_nearest_one_flagged() {
+        // A strip 1 x 0.001: only grid points on one line through it can fall on it, about
+        // 1 / h of them, and h is searched around the h0 at which 2 cells cover the strip's
+        // area (h0 = 0.034): no layout keeps as few as 2.
+        let material = crate::mesh::Material {
+            name: "m".into(),
+            young: 1.0,
+            poisson: 0.3,
+            density: 1.0,
+        };
+        let mesh =
+            crate::mesh::block::block([0.0; 3], [1.0, 0.001, 0.001], [40, 1, 1], material).unwrap();
+        let surface = &mesh.surfaces["z1"];
+        let grid = isometric_grid(&mesh, surface, GridSize::Count(2)).unwrap();
+        assert!(!grid.count_met);
+        assert!(grid.count() > 2);
+        assert!(
+            grid.summary().contains("no layout keeps exactly 2"),
+            "{}",
+            grid.summary()
+        );
+        check_areas(&grid);
     }
 
     #[test]
