@@ -255,17 +255,22 @@ pub fn radius_table() -> RadiusTable {
 
 /// The table for people: computed values beside the paper's printed ones.
 pub fn table_text(table: &RadiusTable) -> String {
-    let mut out = String::from(
-        "Optimal radius of influence R, in units of the grid side h\n\
-         \n\
-         degree | elementary triangle (paper's definition) | paper's Table 2   | whole grid\n\
-         \x20      |      R      mean     sigma              |   R      sigma    |   R      std/mean\n",
+    let mut out = String::from("Optimal radius of influence R, in units of the grid side h\n\n");
+    let groups = format!(
+        "{:6} |{:^28}|{:^19}|{:^19}",
+        "", "elementary triangle", "paper's Table 2", "whole grid"
     );
+    out.push_str(groups.trim_end());
+    out.push('\n');
+    out.push_str(&format!(
+        "{:>6} | {:>8} {:>8} {:>8} | {:>8} {:>8} | {:>8} {:>8}\n",
+        "degree", "R", "mean", "sigma", "R", "sigma", "R", "std/mean"
+    ));
     for d in &table.degrees {
         let printed = PAPER_TABLE_2.iter().find(|p| p.0 == d.degree);
         let (pr, ps) = printed.map_or((f64::NAN, f64::NAN), |p| (p.1, p.3));
         out.push_str(&format!(
-            "{:>6} | {:>9.4} {:>9.4} {:>9.4}              | {:>6.4}   {:>6.4}   | {:>6.4}   {:>6.4}\n",
+            "{:>6} | {:>8.4} {:>8.4} {:>8.4} | {:>8.4} {:>8.4} | {:>8.4} {:>8.4}\n",
             d.degree, d.paper_radius, d.paper_mean, d.paper_std, pr, ps, d.grid_radius, d.grid_std
         ));
     }
