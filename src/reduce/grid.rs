@@ -151,11 +151,12 @@ impl ContactGrid {
 }
 
 /// Out-of-plane deviation allowed, as a fraction of the surface's in-plane size. A surface
-/// bowed by d over a size L has slopes up to about 4 d / L against its mean plane (a
-/// parabola); at d = 0.05 L that is 0.2, where lengths measured in the plane understate those
-/// on the surface by at most 1 - cos(atan 0.2) = 2 %: the grid's spacing and the tributary
-/// areas (taken in the plane) stay within 2 % of the surface's. A flat friction face is far
-/// below it; a drum-brake shoe or a wrapped surface is far above.
+/// bowed as a parabola over a size L lies up to d = a L^2 / 6 from its mean plane and has
+/// slopes up to a L = 6 d / L against it; at d = 0.05 L that is 0.3, where a length on the
+/// surface exceeds its projection by 4.4 % at the very edge and by 1.5 % on average. The grid
+/// is laid out in the plane, so its spacing on the surface stays within those few per cent
+/// of h (the tributary areas are measured on the surface and are exact either way). A flat
+/// friction face is far below it; a drum-brake shoe or a wrapped surface is far above.
 pub const PLANARITY_FRACTION: f64 = 0.05;
 
 /// How far outside a face (barycentric units) a grid point may fall and still count as on it:
