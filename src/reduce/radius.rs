@@ -40,7 +40,7 @@ pub struct RadiusTable {
 
 /// The paper's Table 2 as printed: (degree, radius, mean, sigma). Only for showing beside the
 /// computed values; nothing is derived from it.
-pub const PAPER_TABLE_2: [(u32, f64, f64, f64); 3] = [
+const PAPER_TABLE_2: [(u32, f64, f64, f64); 3] = [
     (1, 0.9501, 1.0, 0.0574),
     (2, 0.7425, 0.9999, 0.0835),
     (3, 0.9597, 1.0, 0.0234),
