@@ -2,8 +2,8 @@
 //! reduced model can stand in for the full one (Fazio, Nacivet, Sinou 2015).
 //!
 //! Stages, each using only the ones before it: [`mesh`] -> [`io`] (file formats) -> [`fem`]
-//! -> analysis -> reduction -> study. [`petsc`] is the only module with `unsafe`: denied
-//! here, allowed there alone.
+//! -> [`contact`] -> [`model`] -> [`analysis`] -> [`reduce`] -> [`study`]. [`petsc`] is the
+//! only module with `unsafe`: denied here, allowed there alone.
 #![deny(unsafe_code)]
 
 pub mod analysis;
@@ -14,5 +14,6 @@ pub mod io;
 pub mod mesh;
 pub mod model;
 pub mod petsc;
+pub mod reduce;
 pub mod study;
 pub mod vector3;

@@ -151,10 +151,28 @@ enum Command {
         #[arg(short, long, default_value = "squeal-out")]
         output: PathBuf,
     },
+    /// The optimal radius of influence of the distributing coupling per weighting degree, in
+    /// units of the grid side: the paper's Table 2 recomputed from its definition, and the
+    /// radius that evens the load over the whole grid. Needs no MPI.
+    Radius {
+        /// Print as JSON.
+        #[arg(long)]
+        json: bool,
+    },
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    // Pure computation: no runtime to start (and none needed to print).
+    if let Command::Radius { json } = cli.command {
+        return match study::radius::run(json) {
+            Ok(()) => ExitCode::SUCCESS,
+            Err(e) => {
+                eprintln!("squeal: error: {e:#}");
+                ExitCode::FAILURE
+            }
+        };
+    }
     let rt = match Runtime::init(&study::info::runtime_options(cli.petsc_options.clone())) {
         Ok(rt) => rt,
         Err(e) => {
@@ -184,6 +202,7 @@ fn main() -> ExitCode {
     }
     let result = match cli.command {
         Command::Info { json } => study::info::run(&rt, json),
+        Command::Radius { .. } => unreachable!("answered before the runtime starts"),
         Command::Bench {
             presets,
             repeat,

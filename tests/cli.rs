@@ -63,3 +63,28 @@ fn unknown_subcommand_is_a_clear_error_on_every_rank() {
     assert!(!common::hung(&out));
     assert!(String::from_utf8_lossy(&out.stderr).contains("unrecognized subcommand"));
 }
+
+#[test]
+fn radius_runs_without_mpirun_and_prints_both_radii_per_degree() {
+    // No mpirun and no runtime: the table is pure computation.
+    let out = std::process::Command::new(squeal())
+        .args(["radius", "--json"])
+        .output()
+        .expect("run squeal radius");
+    assert!(out.status.success(), "{}", common::text(&out));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");
+    let degrees = v["degrees"].as_array().expect("degrees");
+    assert_eq!(degrees.len(), 3);
+    for (d, paper) in degrees.iter().zip([0.9104, 0.7425, 0.9596]) {
+        let r = d["paper_radius"].as_f64().unwrap();
+        assert!((r - paper).abs() < 1e-3, "{d}");
+        for key in ["paper_mean", "paper_std", "grid_radius", "grid_std"] {
+            assert!(d[key].as_f64().is_some_and(f64::is_finite), "{key} in {d}");
+        }
+    }
+    let text = std::process::Command::new(squeal())
+        .arg("radius")
+        .output()
+        .expect("run squeal radius");
+    assert!(String::from_utf8_lossy(&text.stdout).contains("whole grid"));
+}

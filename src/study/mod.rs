@@ -7,6 +7,7 @@ pub mod config;
 pub mod info;
 pub mod modes;
 pub mod plot;
+pub mod radius;
 pub mod report;
 pub mod sweep;
 pub mod write_mesh;

@@ -1,0 +1,444 @@
+//! Distributing coupling (Abaqus `*COUPLING` + `*DISTRIBUTING`, forces only): a reference
+//! point tied to the surface nodes within its radius of influence R (the paper's section 3.3,
+//! eqs. 9-11; METHOD.md section 5).
+//!
+//! With `w_i = w(r_i / R)` the weight of coupling node i at distance `r_i` from the reference
+//! point and `wbar_i = w_i / sum_j w_j`:
+//! - the reference point moves as the weighted mean `u_ref = sum_i wbar_i u_i`;
+//! - a force F at the reference point goes to the coupling nodes as `f_i = wbar_i F`, the
+//!   transpose of the same relation, so the force resultant is transferred exactly.
+//!
+//! Forces only, as in the paper ("the contact forces (but not the moment)"): the moment of the
+//! distributed forces about the reference point, `sum_i wbar_i (x_i - x_ref) x F`, is whatever
+//! the layout of the coupling nodes makes it (zero when their weighted centroid is the
+//! reference point, e.g. a symmetric layout) and is NOT made to vanish: Abaqus's distributing
+//! coupling with rotations would add a moment-balancing correction; this one does not, and
+//! the reference point has no rotational degrees of freedom.
+
+use super::grid::ContactGrid;
+use super::ReduceError;
+use crate::mesh::{Mesh, Surface};
+use crate::vector3::{add, cross, norm, scale, sub};
+use serde::{Deserialize, Serialize};
+
+/// How a coupling node's weight falls with its distance r from the reference point
+/// (`s = r / R`, zero from `s = 1` on).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Weighting {
+    /// `w = 1`: every node within R alike (Abaqus's default).
+    Uniform,
+    /// `w = 1 - s` (eq. 9).
+    Linear,
+    /// `w = 1 - s^2` (eq. 10).
+    Quadratic,
+    /// `w = 1 - 3 s^2 + 2 s^3` (eq. 11): zero slope at both ends.
+    Cubic,
+}
+
+impl Weighting {
+    /// The weight at `s = r / R`; 0 for `s >= 1`.
+    pub fn weight(self, s: f64) -> f64 {
+        if s >= 1.0 {
+            return 0.0;
+        }
+        match self {
+            Weighting::Uniform => 1.0,
+            Weighting::Linear => 1.0 - s,
+            Weighting::Quadratic => 1.0 - s * s,
+            Weighting::Cubic => 1.0 - s * s * (3.0 - 2.0 * s),
+        }
+    }
+
+    /// The polynomial degree of the paper's Table 2 (`None` for uniform).
+    pub fn degree(self) -> Option<u32> {
+        match self {
+            Weighting::Uniform => None,
+            Weighting::Linear => Some(1),
+            Weighting::Quadratic => Some(2),
+            Weighting::Cubic => Some(3),
+        }
+    }
+
+    /// The weighting of a Table 2 degree (1, 2, 3).
+    pub fn from_degree(degree: u32) -> Option<Weighting> {
+        match degree {
+            1 => Some(Weighting::Linear),
+            2 => Some(Weighting::Quadratic),
+            3 => Some(Weighting::Cubic),
+            _ => None,
+        }
+    }
+}
+
+/// One surface node of a distributing coupling.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CouplingNode {
+    /// Index into [`Mesh::nodes`].
+    pub node: usize,
+    /// Its reference coordinates.
+    pub position: [f64; 3],
+    /// Its distance r from the reference point.
+    pub distance: f64,
+    /// Its normalised weight `wbar = w / sum w` (the weights of a coupling add up to 1).
+    pub weight: f64,
+}
+
+/// A reference point tied to surface nodes by normalised weights.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DistributingCoupling {
+    /// Index of the reduced contact node this coupling belongs to (for messages).
+    pub reduced_node: usize,
+    pub reference: [f64; 3],
+    /// Radius of influence R.
+    pub radius: f64,
+    pub weighting: Weighting,
+    /// The surface nodes strictly within R (all with a positive weight), by node index.
+    pub nodes: Vec<CouplingNode>,
+}
+
+impl DistributingCoupling {
+    /// `u_ref = sum_i wbar_i u_i`, `displacement` indexed by mesh node.
+    pub fn reference_displacement(&self, displacement: &[[f64; 3]]) -> [f64; 3] {
+        self.nodes.iter().fold([0.0; 3], |acc, c| {
+            add(acc, scale(c.weight, displacement[c.node]))
+        })
+    }
+
+    /// The force at the reference point spread on the coupling nodes: `(node, wbar_i F)`.
+    pub fn distribute(&self, force: [f64; 3]) -> Vec<(usize, [f64; 3])> {
+        self.nodes
+            .iter()
+            .map(|c| (c.node, scale(c.weight, force)))
+            .collect()
+    }
+
+    /// The moment about the reference point of the forces [`Self::distribute`] gives for
+    /// `force`: `sum_i wbar_i (x_i - x_ref) x F`. Not zero in general (forces only).
+    pub fn moment_about_reference(&self, force: [f64; 3]) -> [f64; 3] {
+        let arm = self.nodes.iter().fold([0.0; 3], |acc, c| {
+            add(acc, scale(c.weight, sub(c.position, self.reference)))
+        });
+        cross(arm, force)
+    }
+}
+
+/// The distributing coupling of reduced contact node `reduced_node`, whose reference point is
+/// `reference`, to the nodes (corner and mid-side) of `surface` within the radius of
+/// influence `radius`. Errors when fewer than 3 nodes not on one line are caught (the
+/// reference point would not be held in every direction of the surface's plane).
+pub fn distributing_coupling(
+    mesh: &Mesh,
+    surface: &Surface,
+    reduced_node: usize,
+    reference: [f64; 3],
+    radius: f64,
+    weighting: Weighting,
+) -> Result<DistributingCoupling, ReduceError> {
+    let candidates = surface_points(mesh, surface)?;
+    couple(&candidates, reduced_node, reference, radius, weighting)
+}
+
+/// The distributing couplings of all the reduced contact nodes of `grid` to `surface`, each
+/// with its reference point at the node's position on the surface, in the grid's order.
+pub fn couple_grid(
+    mesh: &Mesh,
+    surface: &Surface,
+    grid: &ContactGrid,
+    radius: f64,
+    weighting: Weighting,
+) -> Result<Vec<DistributingCoupling>, ReduceError> {
+    let candidates = surface_points(mesh, surface)?;
+    grid.nodes
+        .iter()
+        .enumerate()
+        .map(|(k, n)| couple(&candidates, k, n.position, radius, weighting))
+        .collect()
+}
+
+fn surface_points(mesh: &Mesh, surface: &Surface) -> Result<Vec<(usize, [f64; 3])>, ReduceError> {
+    let nodes = mesh.surface_nodes(surface);
+    if let Some(&bad) = nodes.iter().find(|&&n| n >= mesh.nodes.len()) {
+        return Err(ReduceError::InvalidSurface {
+            surface: surface.name.clone(),
+            why: format!(
+                "refers to node index {bad}, the mesh has {}",
+                mesh.nodes.len()
+            ),
+        });
+    }
+    Ok(nodes.into_iter().map(|n| (n, mesh.nodes[n])).collect())
+}
+
+fn couple(
+    candidates: &[(usize, [f64; 3])],
+    reduced_node: usize,
+    reference: [f64; 3],
+    radius: f64,
+    weighting: Weighting,
+) -> Result<DistributingCoupling, ReduceError> {
+    if !(radius > 0.0 && radius.is_finite()) {
+        return Err(ReduceError::InvalidRadius {
+            reduced_node,
+            radius,
+        });
+    }
+    // Strictly within R: at r = R the weighted forms are 0 anyway, and excluding the sphere
+    // itself keeps "caught" the same set for every weighting.
+    let mut nodes: Vec<CouplingNode> = candidates
+        .iter()
+        .filter_map(|&(node, position)| {
+            let distance = norm(sub(position, reference));
+            (distance < radius).then_some(CouplingNode {
+                node,
+                position,
+                distance,
+                weight: weighting.weight(distance / radius),
+            })
+        })
+        .collect();
+    let collinear = nodes.len() >= 3 && on_one_line(&nodes, radius);
+    if nodes.len() < 3 || collinear {
+        return Err(ReduceError::TooFewCouplingNodes {
+            reduced_node,
+            position: reference,
+            radius,
+            found: nodes.len(),
+            collinear,
+        });
+    }
+    let total: f64 = nodes.iter().map(|c| c.weight).sum();
+    for c in &mut nodes {
+        c.weight /= total;
+    }
+    Ok(DistributingCoupling {
+        reduced_node,
+        reference,
+        radius,
+        weighting,
+        nodes,
+    })
+}
+
+/// Relative size below which the caught nodes count as on one line: the triangle they span
+/// at best is smaller than this fraction of R^2 (round-off on nodes placed along an edge is
+/// some 1e-16 R^2; a real triangle of nodes within R spans far more).
+const COLLINEAR_AREA: f64 = 1e-10;
+
+/// True when all the nodes lie on one line: from the node farthest from the first, the
+/// largest triangle any third node spans with those two is negligible.
+fn on_one_line(nodes: &[CouplingNode], radius: f64) -> bool {
+    let a = nodes[0].position;
+    let b = nodes
+        .iter()
+        .map(|c| c.position)
+        .max_by(|p, q| norm(sub(*p, a)).total_cmp(&norm(sub(*q, a))))
+        .unwrap_or(a);
+    let largest = nodes
+        .iter()
+        .map(|c| 0.5 * norm(cross(sub(b, a), sub(c.position, a))))
+        .fold(0.0, f64::max);
+    largest <= COLLINEAR_AREA * radius * radius
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::block::block;
+    use crate::mesh::Material;
+
+    fn plate() -> Mesh {
+        let material = Material {
+            name: "m".into(),
+            young: 1.0,
+            poisson: 0.3,
+            density: 1.0,
+        };
+        // Top surface z1: nodes every 0.05 (corners and mid-sides) over [0, 1] x [0, 1].
+        block([0.0, 0.0, 0.0], [1.0, 1.0, 0.1], [10, 10, 1], material).unwrap()
+    }
+
+    const ALL: [Weighting; 4] = [
+        Weighting::Uniform,
+        Weighting::Linear,
+        Weighting::Quadratic,
+        Weighting::Cubic,
+    ];
+
+    #[test]
+    fn weights_follow_eqs_9_to_11() {
+        assert_eq!(Weighting::Linear.weight(0.25), 0.75);
+        assert_eq!(Weighting::Quadratic.weight(0.5), 0.75);
+        assert_eq!(Weighting::Cubic.weight(0.5), 0.5);
+        for w in ALL {
+            assert_eq!(w.weight(0.0), 1.0);
+            assert_eq!(w.weight(1.0), 0.0);
+            assert_eq!(w.weight(1.5), 0.0);
+        }
+        for w in [Weighting::Linear, Weighting::Quadratic, Weighting::Cubic] {
+            assert_eq!(Weighting::from_degree(w.degree().unwrap()), Some(w));
+        }
+    }
+
+    #[test]
+    fn weightings_have_lowercase_serde_names() {
+        let names: Vec<String> = ALL
+            .iter()
+            .map(|w| serde_json::to_string(w).unwrap())
+            .collect();
+        assert_eq!(
+            names,
+            ["\"uniform\"", "\"linear\"", "\"quadratic\"", "\"cubic\""]
+        );
+        let back: Weighting = serde_json::from_str("\"cubic\"").unwrap();
+        assert_eq!(back, Weighting::Cubic);
+    }
+
+    #[test]
+    fn coupling_is_normalised_and_transfers_the_force_and_a_rigid_translation() {
+        let mesh = plate();
+        let surface = &mesh.surfaces["z1"];
+        // Off the node lattice, so that the layout is not symmetric about the reference.
+        let reference = [0.431, 0.377, 0.1];
+        for weighting in ALL {
+            let c = distributing_coupling(&mesh, surface, 7, reference, 0.13, weighting).unwrap();
+            assert!(c.nodes.len() > 10);
+            assert!(c.nodes.iter().all(|n| n.weight > 0.0 && n.distance < 0.13));
+            let sum: f64 = c.nodes.iter().map(|n| n.weight).sum();
+            assert!((sum - 1.0).abs() < 1e-14, "{weighting:?}: {sum}");
+
+            let force = [3.0, -2.0, 7.5];
+            let resultant = c
+                .distribute(force)
+                .iter()
+                .fold([0.0; 3], |acc, (_, f)| add(acc, *f));
+            assert!(norm(sub(resultant, force)) < 1e-13 * norm(force));
+
+            let t = [1e-3, -2e-3, 5e-4];
+            let u = vec![t; mesh.nodes.len()];
+            assert!(norm(sub(c.reference_displacement(&u), t)) < 1e-16);
+        }
+    }
+
+    #[test]
+    fn the_moment_about_the_reference_is_not_balanced_only_computed_consistently() {
+        let mesh = plate();
+        let surface = &mesh.surfaces["z1"];
+        let force = [0.0, 0.0, -1.0];
+        let moment_of = |c: &DistributingCoupling| {
+            c.distribute(force).iter().fold([0.0; 3], |acc, (n, f)| {
+                add(acc, cross(sub(mesh.nodes[*n], c.reference), *f))
+            })
+        };
+        // Lopsided: near the plate's edge, more nodes on one side.
+        let edge =
+            distributing_coupling(&mesh, surface, 0, [0.02, 0.5, 0.1], 0.12, Weighting::Cubic)
+                .unwrap();
+        let direct = moment_of(&edge);
+        assert!(norm(sub(edge.moment_about_reference(force), direct)) < 1e-15);
+        assert!(
+            norm(direct) > 1e-3,
+            "a lopsided layout has a moment: {direct:?}"
+        );
+        // Symmetric: the reference on a node of the regular lattice, far from the edges.
+        let centre =
+            distributing_coupling(&mesh, surface, 1, [0.5, 0.5, 0.1], 0.12, Weighting::Cubic)
+                .unwrap();
+        assert!(norm(moment_of(&centre)) < 1e-15);
+        assert!(norm(centre.moment_about_reference(force)) < 1e-15);
+    }
+
+    #[test]
+    fn a_grid_couples_every_reduced_node_and_passes_the_whole_load() {
+        use crate::reduce::grid::{isometric_grid, GridSize};
+        use crate::reduce::radius::grid_optimal;
+        let mesh = plate();
+        let surface = &mesh.surfaces["z1"];
+        let grid = isometric_grid(&mesh, surface, GridSize::Count(22)).unwrap();
+        let (factor, _) = grid_optimal(Weighting::Cubic).unwrap();
+        let couplings = couple_grid(
+            &mesh,
+            surface,
+            &grid,
+            factor * grid.spacing,
+            Weighting::Cubic,
+        )
+        .unwrap();
+        assert_eq!(couplings.len(), grid.count());
+        // A pressure p carried by the reduced contact nodes (p times each node's tributary
+        // area) reaches the surface nodes whole.
+        let p = -2.5e5;
+        let mut total = [0.0; 3];
+        for (c, node) in couplings.iter().zip(&grid.nodes) {
+            assert_eq!(c.reference, node.position);
+            for (_, f) in c.distribute(scale(p * node.area, node.normal)) {
+                total = add(total, f);
+            }
+        }
+        let expect = p * grid.surface_area;
+        assert!(
+            (total[2] - expect).abs() < 1e-12 * expect.abs(),
+            "{total:?}"
+        );
+        // Too small a radius names the first reduced contact node it fails for.
+        let err = couple_grid(&mesh, surface, &grid, 1e-3, Weighting::Cubic).unwrap_err();
+        assert!(
+            matches!(
+                err,
+                ReduceError::TooFewCouplingNodes {
+                    reduced_node: 0,
+                    ..
+                }
+            ),
+            "{err}"
+        );
+    }
+
+    #[test]
+    fn too_few_or_collinear_nodes_is_an_error_naming_the_reduced_node() {
+        let mesh = plate();
+        let surface = &mesh.surfaces["z1"];
+        // R = 0.03 around a node catches only that node.
+        let err =
+            distributing_coupling(&mesh, surface, 4, [0.5, 0.5, 0.1], 0.03, Weighting::Linear)
+                .unwrap_err();
+        let text = err.to_string();
+        assert!(
+            text.contains("reduced contact node 4") && text.contains("3.000000e-2"),
+            "{text}"
+        );
+        assert!(matches!(
+            err,
+            ReduceError::TooFewCouplingNodes {
+                found: 1,
+                collinear: false,
+                ..
+            }
+        ));
+        // Between two rows of nodes... on the x0 edge of the top, 3 nodes on one line.
+        let err = distributing_coupling(
+            &mesh,
+            surface,
+            9,
+            [-0.03, 0.5, 0.1],
+            0.07,
+            Weighting::Uniform,
+        )
+        .unwrap_err();
+        assert!(
+            matches!(
+                err,
+                ReduceError::TooFewCouplingNodes {
+                    collinear: true,
+                    reduced_node: 9,
+                    ..
+                }
+            ),
+            "{err}"
+        );
+        assert!(matches!(
+            distributing_coupling(&mesh, surface, 2, [0.5; 3], 0.0, Weighting::Linear),
+            Err(ReduceError::InvalidRadius { .. })
+        ));
+    }
+}

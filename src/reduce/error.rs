@@ -1,0 +1,55 @@
+//! Errors of the reduction layer.
+
+/// What can go wrong when laying reduced contact nodes on a surface or coupling them to it.
+/// Every variant names the surface or the reduced contact node, and what was asked.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum ReduceError {
+    /// The grid size asked for cannot be used (a count of 0, a spacing that is not finite and
+    /// positive).
+    #[error("surface '{surface}': {requested}: {why}")]
+    InvalidSize {
+        surface: String,
+        /// The request in words ("6 reduced contact nodes", "spacing h = 0.01").
+        requested: String,
+        why: String,
+    },
+    /// The surface has no faces, refers to nodes outside the mesh, or has a degenerate face.
+    #[error("surface '{surface}': {why}")]
+    InvalidSurface { surface: String, why: String },
+    /// The surface is not close enough to a plane for an isometric grid in its mean plane to
+    /// be laid on it.
+    #[error(
+        "surface '{surface}' is not planar enough for a grid of reduced contact nodes: its \
+         nodes lie up to {deviation:.3e} from its mean plane, more than {limit:.3e} \
+         ({fraction} of its in-plane size {size:.3e})"
+    )]
+    NotPlanar {
+        surface: String,
+        deviation: f64,
+        limit: f64,
+        fraction: f64,
+        size: f64,
+    },
+    /// No grid point falls inside the surface.
+    #[error("surface '{surface}': {requested} leaves no reduced contact node on the surface")]
+    NoNode { surface: String, requested: String },
+    /// A distributing coupling would not hold its reference point: fewer than 3 surface nodes
+    /// within the radius of influence, or all of them on one line.
+    #[error(
+        "reduced contact node {reduced_node} at ({:.6e}, {:.6e}, {:.6e}): the radius of \
+         influence R = {radius:.6e} catches {found} surface node(s){}; a distributing \
+         coupling needs at least 3 not on one line",
+        position[0], position[1], position[2],
+        if *collinear { ", all on one line" } else { "" }
+    )]
+    TooFewCouplingNodes {
+        reduced_node: usize,
+        position: [f64; 3],
+        radius: f64,
+        found: usize,
+        collinear: bool,
+    },
+    /// A radius of influence that is not finite and positive.
+    #[error("reduced contact node {reduced_node}: radius of influence R = {radius} must be finite and > 0")]
+    InvalidRadius { reduced_node: usize, radius: f64 },
+}

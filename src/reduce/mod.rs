@@ -1,0 +1,23 @@
+//! The reduced contact interface (METHOD.md section 5; the paper's sections 3.1, 3.3, 4.1),
+//! its pure-geometry half: plain Rust data, no PETSc, so that the reduced-interface model and
+//! the Craig-Bampton super-elements can be built on it.
+//!
+//! - [`grid`]: the reduced contact nodes, an isometric (equilateral triangular) grid laid on a
+//!   pad friction surface in its mean plane ([`isometric_grid`], [`GridSize`]), each node with
+//!   its position and normal on the surface and its tributary area.
+//! - [`coupling`]: the distributing coupling of a reference point to the surface nodes within
+//!   the radius of influence ([`distributing_coupling`], [`Weighting`]), forces only.
+//! - [`radius`]: the optimal radius of influence per weighting degree, the paper's elementary
+//!   triangle (Table 2) and the whole-grid optimum ([`radius_table`]).
+
+pub mod coupling;
+mod error;
+pub mod grid;
+pub mod radius;
+
+pub use coupling::{
+    couple_grid, distributing_coupling, CouplingNode, DistributingCoupling, Weighting,
+};
+pub use error::ReduceError;
+pub use grid::{isometric_grid, ContactGrid, GridSize, MeanPlane, ReducedNode};
+pub use radius::{radius_table, table_text, DegreeRadius, RadiusTable};
