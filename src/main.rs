@@ -120,6 +120,19 @@ enum Command {
         /// starting point for your own.
         #[arg(long)]
         write_study: Option<PathBuf>,
+        /// Reduce the swept (disc/pad) interface to this many reduced contact nodes per pad
+        /// (the paper's 6, 22, 52, 106): the reduced-interface model.
+        #[arg(long, conflicts_with = "spacing")]
+        contact_nodes_per_pad: Option<usize>,
+        /// Or reduce it to an isometric grid of this side (mesh units).
+        #[arg(long)]
+        spacing: Option<f64>,
+        /// Distributing coupling weights of the reduced interface.
+        #[arg(long, value_enum, default_value = "cubic")]
+        weighting: WeightingArg,
+        /// Radius of influence: grid-optimal, paper, or a length in mesh units.
+        #[arg(long, default_value = "grid-optimal")]
+        radius: String,
     },
     /// Real modes (K phi = omega^2 M phi) of a mesh file or of the built-in brake.
     Modes {
@@ -151,6 +164,19 @@ enum Command {
         #[arg(short, long, default_value = "squeal-out")]
         output: PathBuf,
     },
+    /// Compare the folders of two or more sweeps: each instability of the first (the
+    /// reference) against the others' (the paper's eqs. 12-14): compare.json, compare.md and
+    /// one plot per instability.
+    Compare {
+        /// The reference sweep's folder (e.g. the full model's).
+        reference: PathBuf,
+        /// The other sweeps' folders (reduced-interface models, super-element assemblies).
+        #[arg(required = true)]
+        others: Vec<PathBuf>,
+        /// Output folder.
+        #[arg(short, long, default_value = "squeal-compare")]
+        output: PathBuf,
+    },
     /// The optimal radius of influence of the distributing coupling per weighting degree, in
     /// units of the grid side: the paper's Table 2 recomputed from its definition, and the
     /// radius that evens the load over the whole grid. Needs no MPI.
@@ -159,6 +185,48 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+}
+
+/// The coupling weights, as a command-line value.
+#[derive(Clone, Copy, Debug, clap::ValueEnum)]
+enum WeightingArg {
+    Uniform,
+    Linear,
+    Quadratic,
+    Cubic,
+}
+
+/// The `[reduction]` the sweep flags ask for (none without a count or spacing).
+fn reduction_flags(
+    count: Option<usize>,
+    spacing: Option<f64>,
+    weighting: WeightingArg,
+    radius: &str,
+) -> anyhow::Result<Option<squeal::study::config::ReductionSpec>> {
+    use squeal::reduce::{RadiusChoice, Weighting};
+    if count.is_none() && spacing.is_none() {
+        return Ok(None);
+    }
+    let radius = match radius {
+        "grid-optimal" => RadiusChoice::GridOptimal,
+        "paper" => RadiusChoice::Paper,
+        other => RadiusChoice::Length(other.parse().map_err(|_| {
+            anyhow::anyhow!(
+                "--radius {other}: expected grid-optimal, paper or a length in mesh units"
+            )
+        })?),
+    };
+    let mut spec = squeal::study::config::ReductionSpec::with_count(count.unwrap_or(0));
+    spec.contact_nodes_per_pad = count;
+    spec.spacing = spacing;
+    spec.radius = radius;
+    spec.weighting = match weighting {
+        WeightingArg::Uniform => Weighting::Uniform,
+        WeightingArg::Linear => Weighting::Linear,
+        WeightingArg::Quadratic => Weighting::Quadratic,
+        WeightingArg::Cubic => Weighting::Cubic,
+    };
+    Ok(Some(spec))
 }
 
 fn main() -> ExitCode {
@@ -203,6 +271,11 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Info { json } => study::info::run(&rt, json),
         Command::Radius { .. } => unreachable!("answered before the runtime starts"),
+        Command::Compare {
+            reference,
+            others,
+            output,
+        } => study::compare::run(&rt, &reference, &others, &output),
         Command::Bench {
             presets,
             repeat,
@@ -236,14 +309,21 @@ fn main() -> ExitCode {
             fmax,
             output,
             write_study,
-        } => study::sweep::run_command(
-            &rt,
-            study.as_deref(),
-            preset,
-            friction,
-            fmax,
-            output,
-            write_study.as_deref(),
+            contact_nodes_per_pad,
+            spacing,
+            weighting,
+            radius,
+        } => reduction_flags(contact_nodes_per_pad, spacing, weighting, &radius).and_then(
+            |reduction| {
+                let args = study::sweep::SweepArgs {
+                    preset,
+                    friction,
+                    max_frequency_hz: fmax,
+                    output,
+                    reduction,
+                };
+                study::sweep::run_command(&rt, study.as_deref(), args, write_study.as_deref())
+            },
         ),
         Command::Mesh {
             mesh,

@@ -309,3 +309,67 @@ fn stability_map_and_table_agree_for_a_non_default_threshold() {
     }
     assert!(counts[1] < counts[0] && counts[1] > 0, "{counts:?}");
 }
+
+/// A reduced interface that cannot be built says which key or node is at fault, on both
+/// ranks' behalf once, and writes nothing.
+#[test]
+fn bad_reductions_name_the_key_or_the_node_and_write_nothing() {
+    let dir = scratch("bad-reduction");
+    let out = dir.join("out");
+    let tiny = |extra: &[&str]| {
+        let mut args = vec![
+            "sweep",
+            "--preset",
+            "tiny",
+            "--friction",
+            "0.5",
+            "--fmax",
+            "6000",
+            "-o",
+            out.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        failure(&args)
+    };
+    let e = tiny(&["--contact-nodes-per-pad", "0"]);
+    assert!(e.contains("reduction.contact_nodes_per_pad"), "{e}");
+    // A radius of influence that catches no pad node.
+    let e = tiny(&["--contact-nodes-per-pad", "6", "--radius", "1e-6"]);
+    assert!(
+        e.contains("reduced contact node") && e.contains("catches 0 surface node"),
+        "{e}"
+    );
+    // A reduction with no swept pair to reduce.
+    let study = dir.join("study.toml");
+    let run = common::mpirun(
+        1,
+        squeal(),
+        &[
+            "sweep",
+            "--preset",
+            "tiny",
+            "--write-study",
+            study.to_str().unwrap(),
+        ],
+    );
+    assert!(run.status.success(), "{}", common::text(&run));
+    let text = std::fs::read_to_string(&study)
+        .unwrap()
+        .replace("sweep = true", "sweep = false");
+    std::fs::write(
+        &study,
+        format!("{text}\n[reduction]\ncontact_nodes_per_pad = 22\n"),
+    )
+    .unwrap();
+    let e = failure(&[
+        "sweep",
+        study.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(
+        e.contains("study.toml") && e.contains("reduction") && e.contains("sweep = true"),
+        "{e}"
+    );
+    assert!(!out.join("sweep.json").exists());
+}

@@ -126,6 +126,9 @@ impl Model {
                     })?;
             model.pairs.push(pair);
             model.swept.push(c.sweep);
+            model
+                .pair_surfaces
+                .push(Some((slave.name.clone(), master.name.clone())));
         }
         Ok(model)
     }

@@ -47,6 +47,9 @@ pub struct Model {
     pub pairs: Vec<ContactPair>,
     /// Which pairs a friction sweep sets mu on (one flag per pair).
     pub swept: Vec<bool>,
+    /// The (slave, master) surface names of each node-to-surface pair (one per pair; `None`
+    /// for node-to-node pairs): where the reduction layer lays its grids.
+    pub pair_surfaces: Vec<Option<(String, String)>>,
     /// From an Abaqus `*FREQUENCY` step: (number of modes, upper frequency).
     pub frequency_step: Option<(Option<usize>, Option<f64>)>,
     /// What a reader or builder noticed and did not refuse.
@@ -99,8 +102,9 @@ impl Model {
         }
     }
 
-    /// The nodes of the swept pairs' contact points (slave and master side), sorted: where
-    /// the friction coupling happens, and where mode shapes are compared for tracking.
+    /// The nodes of the swept pairs' contact points (slave and master side) and the nodes
+    /// tied to them by coupling springs, sorted: where the friction coupling happens, and
+    /// where mode shapes are compared for tracking.
     pub fn swept_nodes(&self) -> Vec<usize> {
         let mut nodes: Vec<usize> = self
             .pairs
@@ -114,6 +118,17 @@ impl Model {
             })
             .map(|&(n, _)| n)
             .collect();
+        nodes.sort_unstable();
+        nodes.dedup();
+        // A reduced interface's contact nodes stand for the surface nodes they are tied to:
+        // those carry the coupling too (and are what another model of the brake shares).
+        let mut tied: Vec<usize> = self
+            .couplings
+            .iter()
+            .filter(|c| c.terms.iter().any(|t| nodes.binary_search(&t.0).is_ok()))
+            .flat_map(|c| c.terms.iter().map(|t| t.0))
+            .collect();
+        nodes.append(&mut tied);
         nodes.sort_unstable();
         nodes.dedup();
         nodes

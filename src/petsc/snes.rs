@@ -57,6 +57,10 @@ pub struct NewtonOptions {
     /// about rank + 1 iterations, each a pair of triangular solves, far cheaper than a new
     /// factorisation. 0 factorises every Jacobian.
     pub keep_factorization_rank: usize,
+    /// A line search that finds no descent once |F| <= this * |F0| is taken as convergence
+    /// to the residual's round-off floor (reason `CONVERGED_ROUNDOFF_FLOOR`) rather than a
+    /// failure. 0: never. See the caller's reason for its value.
+    pub roundoff_floor: f64,
 }
 
 impl Default for NewtonOptions {
@@ -68,6 +72,7 @@ impl Default for NewtonOptions {
             line_search: "bt".into(),
             linear: LinearMethod::default(),
             keep_factorization_rank: 0,
+            roundoff_floor: 0.0,
         }
     }
 }
@@ -90,6 +95,7 @@ pub struct NonlinearSolver<'f, 'rt> {
     callbacks: Box<Callbacks<'f, 'rt>>,
     jacobian: Matrix<'rt>,
     history: std::vec::Vec<f64>,
+    roundoff_floor: f64,
     _rt: PhantomData<&'rt Runtime>,
 }
 
@@ -201,6 +207,7 @@ impl<'f, 'rt> NonlinearSolver<'f, 'rt> {
             }),
             jacobian,
             history: vec![0.0; options.max_iterations + 2],
+            roundoff_floor: options.roundoff_floor,
             _rt: PhantomData,
         };
         let ctx = &mut *solver.callbacks as *mut Callbacks as *mut c_void;
@@ -285,6 +292,18 @@ impl<'f, 'rt> NonlinearSolver<'f, 'rt> {
         let reason_text = unsafe { std::ffi::CStr::from_ptr(text) }
             .to_string_lossy()
             .into_owned();
+        let floor = match (history.first(), history.last()) {
+            (Some(&first), Some(&last)) => last <= self.roundoff_floor * first,
+            _ => false,
+        };
+        if reason == sys::SNES_DIVERGED_LINE_SEARCH && floor {
+            return Ok(NewtonReport {
+                iterations: its as usize,
+                residual_history: history,
+                reason: "CONVERGED_ROUNDOFF_FLOOR".into(),
+                factorizations: self.callbacks.factorizations,
+            });
+        }
         if reason < 0 {
             let mut ksp = std::ptr::null_mut();
             // SAFETY: out-pointer.

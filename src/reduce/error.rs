@@ -52,4 +52,23 @@ pub enum ReduceError {
     /// A radius of influence that is not finite and positive.
     #[error("reduced contact node {reduced_node}: radius of influence R = {radius} must be finite and > 0")]
     InvalidRadius { reduced_node: usize, radius: f64 },
+    /// A reduction was asked for but no contact pair is swept.
+    #[error(
+        "a reduced interface replaces the swept (disc/pad) pairs, and no pair has sweep = true"
+    )]
+    NothingToReduce,
+    /// A swept pair that is not node-to-surface has no surfaces to lay a grid on.
+    #[error("pair '{pair}' is not a node-to-surface pair between two surfaces: nothing to reduce")]
+    NotNodeToSurface { pair: String },
+    /// A reduced contact node that faces no disc face.
+    #[error(
+        "pair '{pair}': reduced contact node {reduced_node} at ({:.6e}, {:.6e}, {:.6e}) does          not project on the master surface '{surface}'",
+        position[0], position[1], position[2]
+    )]
+    Unprojected {
+        pair: String,
+        reduced_node: usize,
+        position: [f64; 3],
+        surface: String,
+    },
 }

@@ -7,12 +7,15 @@
 //!   its position and normal on the surface and its tributary area.
 //! - [`coupling`]: the distributing coupling of a reference point to the surface nodes within
 //!   the radius of influence ([`distributing_coupling`], [`Weighting`]), forces only.
+//! - [`interface`]: the reduced-interface model, the full model with its swept pairs
+//!   replaced by node-to-node contacts between reduced contact nodes ([`reduce_interface`]).
 //! - [`radius`]: the optimal radius of influence per weighting degree, the paper's elementary
 //!   triangle (Table 2) and the whole-grid optimum ([`radius_table`]).
 
 pub mod coupling;
 mod error;
 pub mod grid;
+pub mod interface;
 pub mod radius;
 
 pub use coupling::{
@@ -20,4 +23,7 @@ pub use coupling::{
 };
 pub use error::ReduceError;
 pub use grid::{isometric_grid, ContactGrid, GridSize, MeanPlane, ReducedNode};
+pub use interface::{
+    reduce_interface, InterfaceSettings, RadiusChoice, ReducedInterface, ReducedPad,
+};
 pub use radius::{radius_table, table_text, DegreeRadius, RadiusTable};

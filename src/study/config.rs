@@ -8,6 +8,7 @@ use crate::model::spec::ModelSpec;
 pub use crate::model::spec::{
     ContactSpec, MaterialSpec, MeshSpec, PressureSpec, SpringDirection, SpringSpec, SupportSpec,
 };
+use crate::reduce::{GridSize, InterfaceSettings, RadiusChoice, Weighting};
 use std::path::{Path, PathBuf};
 
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -28,6 +29,9 @@ pub struct Study {
     pub contacts: Vec<ContactSpec>,
     #[serde(default)]
     pub analysis: AnalysisSpec,
+    /// A reduced contact interface in place of the swept pairs (absent: the full model).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reduction: Option<ReductionSpec>,
     /// Output folder.
     #[serde(default = "default_output")]
     pub output: PathBuf,
@@ -90,6 +94,63 @@ fn default_threshold() -> f64 {
 }
 fn default_window() -> usize {
     30
+}
+
+/// The reduced contact interface (METHOD.md section 5): reduced contact nodes per pad (or
+/// the grid side), the distributing coupling's weighting and radius, the tie springs.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ReductionSpec {
+    /// Reduced contact nodes per pad (the paper's 6, 22, 52, 106).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub contact_nodes_per_pad: Option<usize>,
+    /// Or the grid side h (mesh units).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub spacing: Option<f64>,
+    /// "uniform", "linear", "quadratic" or "cubic".
+    #[serde(default = "cubic")]
+    pub weighting: Weighting,
+    /// "grid-optimal", "paper" or a radius in mesh units.
+    #[serde(default = "grid_optimal")]
+    pub radius: RadiusChoice,
+    /// Stiffness of each tie spring (N/m); default 1000 times the node's contact stiffness.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub spring_stiffness: Option<f64>,
+}
+
+fn cubic() -> Weighting {
+    Weighting::Cubic
+}
+fn grid_optimal() -> RadiusChoice {
+    RadiusChoice::GridOptimal
+}
+
+impl ReductionSpec {
+    /// A reduction to `count` nodes per pad with the defaults.
+    pub fn with_count(count: usize) -> ReductionSpec {
+        ReductionSpec {
+            contact_nodes_per_pad: Some(count),
+            spacing: None,
+            weighting: cubic(),
+            radius: grid_optimal(),
+            spring_stiffness: None,
+        }
+    }
+
+    /// The settings of [`crate::reduce::reduce_interface`] (checked by [`Study::check`]).
+    pub fn settings(&self) -> InterfaceSettings {
+        InterfaceSettings {
+            size: match (self.contact_nodes_per_pad, self.spacing) {
+                (_, Some(h)) => GridSize::Spacing(h),
+                (Some(n), None) => GridSize::Count(n),
+                (None, None) => GridSize::Count(52),
+            },
+            weighting: self.weighting,
+            radius: self.radius,
+            spring_stiffness: self.spring_stiffness,
+            spring_factor: 1.0,
+        }
+    }
 }
 
 #[derive(Debug, thiserror::Error)]
@@ -172,6 +233,7 @@ impl Study {
             ],
             contacts: vec![disc_pad("inboard"), disc_pad("outboard")],
             analysis: AnalysisSpec::default(),
+            reduction: None,
             output: default_output(),
         }
     }
@@ -220,6 +282,53 @@ impl Study {
                 "mesh".into(),
                 "give either file or the built-in brake (preset/brake), not both".into(),
             ));
+        }
+        if let Some(r) = &self.reduction {
+            match (r.contact_nodes_per_pad, r.spacing) {
+                (Some(_), Some(_)) => {
+                    return Err(bad(
+                        "reduction".into(),
+                        "give either contact_nodes_per_pad or spacing, not both".into(),
+                    ))
+                }
+                (Some(0), None) => {
+                    return Err(bad(
+                        "reduction.contact_nodes_per_pad".into(),
+                        "must be at least 1".into(),
+                    ))
+                }
+                (None, Some(h)) if !(h > 0.0 && h.is_finite()) => {
+                    return Err(bad(
+                        "reduction.spacing".into(),
+                        format!("must be finite and > 0, got {h}"),
+                    ))
+                }
+                _ => {}
+            }
+            if let RadiusChoice::Length(radius) = r.radius {
+                if !(radius > 0.0 && radius.is_finite()) {
+                    return Err(bad(
+                        "reduction.radius".into(),
+                        format!(
+                            "must be \"grid-optimal\", \"paper\" or a length > 0, got {radius}"
+                        ),
+                    ));
+                }
+            }
+            if let Some(k) = r.spring_stiffness {
+                if !(k > 0.0 && k.is_finite()) {
+                    return Err(bad(
+                        "reduction.spring_stiffness".into(),
+                        format!("must be finite and > 0, got {k}"),
+                    ));
+                }
+            }
+            if !self.contacts.iter().any(|c| c.sweep) {
+                return Err(bad(
+                    "reduction".into(),
+                    "a reduced interface replaces the swept pairs, and no contacts[..] has sweep = true".into(),
+                ));
+            }
         }
         let a = &self.analysis;
         if !(a.max_frequency_hz > 0.0 && a.max_frequency_hz.is_finite()) {

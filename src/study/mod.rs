@@ -3,6 +3,7 @@
 pub mod bench;
 pub mod blas;
 pub mod cea;
+pub mod compare;
 pub mod config;
 pub mod info;
 pub mod modes;

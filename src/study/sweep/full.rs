@@ -11,6 +11,7 @@ use crate::contact;
 use crate::mesh::Mesh;
 use crate::model::{self, Model, Operators};
 use crate::petsc::{Comm, Matrix};
+use crate::reduce;
 use crate::study::bench::peak_rss_mib;
 use crate::study::config::Study;
 use crate::study::report::collective;
@@ -39,13 +40,23 @@ impl<'rt> FullModel<'rt> {
     /// Builds and assembles the model of a study (collective; errors name the study file
     /// and key).
     pub fn from_study(comm: Comm<'rt>, study: &Study, file: &str) -> anyhow::Result<Self> {
-        let model = collective(
-            comm,
-            Model::from_spec(&study.model_spec()).map_err(|e| anyhow::anyhow!("{file}: {e}")),
-        )?;
+        let local = Model::from_spec(&study.model_spec())
+            .map_err(|e| anyhow::anyhow!("{file}: {e}"))
+            .and_then(|model| match &study.reduction {
+                None => Ok((model, None)),
+                Some(r) => reduce::reduce_interface(&model, &r.settings())
+                    .map(|reduced| (reduced.model.clone(), Some(reduced.summary())))
+                    .map_err(|e| anyhow::anyhow!("{file}: reduction: {e}")),
+            });
+        let (model, reduction) = collective(comm, local)?;
         if comm.rank() == 0 {
             for w in &model.warnings {
                 tracing::warn!("{w}");
+            }
+            if let Some(summary) = reduction {
+                for line in summary.lines() {
+                    tracing::info!("reduced interface: {line}");
+                }
             }
         }
         let operators = model::assemble(comm, &model, study.analysis.mass_rule)?;

@@ -14,7 +14,7 @@ mod output;
 pub use full::FullModel;
 pub use output::{ModelInfo, PairReport, SweepPointReport};
 
-use super::config::Study;
+use super::config::{ReductionSpec, Study};
 use super::report::{collective, write_atomically};
 use crate::analysis::cea::ComplexMode;
 use crate::analysis::tracking::{self, Instability, SweepPoint, TrackingOptions};
@@ -80,15 +80,22 @@ pub struct SweepSummary {
     pub instabilities: Vec<Instability>,
 }
 
+/// What `squeal sweep`'s flags change in the study.
+#[derive(Clone, Debug, Default)]
+pub struct SweepArgs {
+    pub preset: Option<String>,
+    pub friction: Option<Vec<f64>>,
+    pub max_frequency_hz: Option<f64>,
+    pub output: Option<PathBuf>,
+    pub reduction: Option<ReductionSpec>,
+}
+
 /// `squeal sweep`: the study file (or the built-in study) with the command line's changes.
 /// Collective.
 pub fn run_command(
     rt: &Runtime,
     file: Option<&Path>,
-    preset: Option<String>,
-    friction: Option<Vec<f64>>,
-    max_frequency_hz: Option<f64>,
-    output: Option<PathBuf>,
+    args: SweepArgs,
     write_study: Option<&Path>,
 ) -> anyhow::Result<()> {
     let comm = rt.world();
@@ -98,23 +105,26 @@ pub fn run_command(
             path.display().to_string(),
         ),
         None => (
-            Study::builtin(preset.as_deref().unwrap_or("small")),
+            Study::builtin(args.preset.as_deref().unwrap_or("small")),
             "built-in study".to_string(),
         ),
     };
-    if let Some(p) = preset {
+    if let Some(p) = args.preset {
         if study.mesh.file.is_none() {
             study.mesh.preset = Some(p);
         }
     }
-    if let Some(f) = friction {
+    if let Some(f) = args.friction {
         study.analysis.friction = f;
     }
-    if let Some(f) = max_frequency_hz {
+    if let Some(f) = args.max_frequency_hz {
         study.analysis.max_frequency_hz = f;
     }
-    if let Some(o) = output {
+    if let Some(o) = args.output {
         study.output = o;
+    }
+    if args.reduction.is_some() {
+        study.reduction = args.reduction;
     }
     collective(comm, study.check(Path::new(&name)))?;
     if let Some(path) = write_study {

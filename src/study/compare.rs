@@ -1,0 +1,445 @@
+//! `squeal compare REFERENCE OTHER...`: how far other models of a brake (reduced-interface
+//! models, super-element assemblies) stand in for a reference, from the folders their sweeps
+//! wrote (METHOD.md section 8; the paper's eqs. 12-14, Tables 4-7).
+//!
+//! Each instability of the reference (an unstable track and the partner it coupled with) is
+//! paired with the other model's instability of nearest frequency where both are unstable
+//! (within [`MATCH_TOLERANCE`]). For a paired instability and each friction value mu_j both
+//! sweeps share, the two modes of each pair are matched lower to lower and the error is
+//! e_j = sum_i |f_other(j, i) - f_ref(j, i)| / f_ref(j, i) (eq. 12's summand); the mean over
+//! the M shared values is eq. 12, the smallest and largest are eqs. 13-14. The real parts
+//! are compared as the largest |a_other - a_ref| over the mu values, relative to the
+//! reference's largest real part. Instabilities one model has and the other has not are
+//! listed both ways. Errors are fractions (0.01 is 1 %).
+//!
+//! Pairing is by frequency only: the mode shapes are not in the sweep folders yet, so the
+//! complex MAC on shared mesh DOFs that would confirm a pairing is not computed.
+
+use crate::study::report::write_atomically;
+use std::path::{Path, PathBuf};
+
+/// Two instabilities are the same when their frequencies (at their largest real part)
+/// differ by less than this fraction: brake instabilities are hundreds of Hz apart, and a
+/// reduced model that moves one by more is not standing in for the reference anyway.
+pub const MATCH_TOLERANCE: f64 = 0.05;
+
+#[derive(Debug, thiserror::Error)]
+pub enum CompareError {
+    #[error("{}: {source}", file.display())]
+    Read {
+        file: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    #[error("{}: not a squeal sweep.json: {message}", file.display())]
+    Format { file: PathBuf, message: String },
+    #[error("{}: shares no friction value with the reference {}", other.display(), reference.display())]
+    NoCommonFriction { reference: PathBuf, other: PathBuf },
+    #[error("writing {}: {source}", file.display())]
+    Write {
+        file: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+}
+
+#[derive(Clone, Debug, serde::Deserialize)]
+struct Mode {
+    frequency_hz: f64,
+    real_part: f64,
+}
+
+#[derive(Clone, Debug, serde::Deserialize)]
+struct Point {
+    friction: f64,
+    eigenvalues: Vec<Mode>,
+}
+
+#[derive(Clone, Debug, serde::Deserialize)]
+struct TrackRecord {
+    id: usize,
+    members: Vec<Option<usize>>,
+}
+
+#[derive(Clone, Debug, serde::Deserialize)]
+struct InstabilityRecord {
+    track: usize,
+    partner: Option<usize>,
+    onset_mu: f64,
+    max_real_part: f64,
+    frequency_hz_at_max: f64,
+}
+
+#[derive(Clone, Debug, serde::Deserialize)]
+struct ModelRecord {
+    source: String,
+    equations: usize,
+}
+
+/// What compare reads of a sweep folder.
+#[derive(Clone, Debug, serde::Deserialize)]
+struct Sweep {
+    model: ModelRecord,
+    points: Vec<Point>,
+    tracks: Vec<TrackRecord>,
+    instabilities: Vec<InstabilityRecord>,
+}
+
+impl Sweep {
+    fn read(dir: &Path) -> Result<Sweep, CompareError> {
+        let file = dir.join("sweep.json");
+        let bytes = std::fs::read(&file).map_err(|source| CompareError::Read {
+            file: file.clone(),
+            source,
+        })?;
+        serde_json::from_slice(&bytes).map_err(|e| CompareError::Format {
+            file,
+            message: e.to_string(),
+        })
+    }
+
+    /// (frequency, real part) of a track at point k.
+    fn mode(&self, track: usize, k: usize) -> Option<(f64, f64)> {
+        let t = self.tracks.iter().find(|t| t.id == track)?;
+        let i = (*t.members.get(k)?)?;
+        let m = self.points.get(k)?.eigenvalues.get(i)?;
+        Some((m.frequency_hz, m.real_part))
+    }
+
+    fn point_at(&self, mu: f64) -> Option<usize> {
+        self.points
+            .iter()
+            .position(|p| (p.friction - mu).abs() <= 1e-9 * mu.abs().max(1.0))
+    }
+}
+
+/// One model's errors on one reference instability.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct InstabilityComparison {
+    pub reference_frequency_hz: f64,
+    pub reference_onset_mu: f64,
+    pub reference_max_real_part: f64,
+    /// The other model's folder.
+    pub model: String,
+    pub matched: bool,
+    /// The other model's instability: its frequency and onset.
+    pub model_frequency_hz: Option<f64>,
+    pub model_onset_mu: Option<f64>,
+    /// Eqs. 12-14 over the shared friction values (fractions); `None` when not matched.
+    pub mean_error: Option<f64>,
+    pub min_error: Option<f64>,
+    pub max_error: Option<f64>,
+    /// max_j |a_model - a_ref| / max_j a_ref (the pair's larger real part at each mu).
+    pub real_part_max_error: Option<f64>,
+    /// e_j per shared mu: (mu, e_j).
+    pub per_friction: Vec<(f64, f64)>,
+    /// Which reference instability this is (its index), for grouping the plots.
+    #[serde(skip)]
+    pub reference_index: usize,
+    /// The curves (mu, frequency, real part) of the pair's modes: the reference's, then
+    /// this model's, for the plots.
+    #[serde(skip)]
+    pub curves: Vec<crate::study::plot::Track>,
+}
+
+/// An instability of another model that matches none of the reference's.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct ExtraInstability {
+    pub model: String,
+    pub frequency_hz: f64,
+    pub onset_mu: f64,
+    pub max_real_part: f64,
+}
+
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct ModelEntry {
+    pub folder: String,
+    pub source: String,
+    pub equations: usize,
+    pub instabilities: usize,
+}
+
+/// The comparison, as written to compare.json.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct Comparison {
+    /// The reference first.
+    pub models: Vec<ModelEntry>,
+    pub instabilities: Vec<InstabilityComparison>,
+    /// Instabilities found in another model but not in the reference.
+    pub extra: Vec<ExtraInstability>,
+}
+
+/// The two modes of an instability at point k, sorted by frequency (lower first).
+fn pair_modes(s: &Sweep, i: &InstabilityRecord, k: usize) -> Option<Vec<(f64, f64)>> {
+    let mut modes = vec![s.mode(i.track, k)?];
+    if let Some(p) = i.partner {
+        modes.push(s.mode(p, k)?);
+    }
+    modes.sort_by(|a, b| a.0.total_cmp(&b.0));
+    Some(modes)
+}
+
+/// The pair's two modes as curves over the shared friction values (`other`: index the
+/// shared list's second member).
+fn curves(
+    s: &Sweep,
+    i: &InstabilityRecord,
+    name: &str,
+    shared: &[(usize, usize)],
+    other: bool,
+) -> Vec<crate::study::plot::Track> {
+    let mut lines: Vec<crate::study::plot::Track> = vec![
+        (format!("{name} (lower)"), Vec::new(), other),
+        (format!("{name} (upper)"), Vec::new(), other),
+    ];
+    for &(k, j) in shared {
+        let at = if other { j } else { k };
+        if let Some(modes) = pair_modes(s, i, at) {
+            for (line, m) in lines.iter_mut().zip(&modes) {
+                line.1.push((s.points[at].friction, m.0, m.1));
+            }
+        }
+    }
+    lines.retain(|l| !l.1.is_empty());
+    lines
+}
+
+fn relative(a: f64, b: f64) -> f64 {
+    (a - b).abs() / b.abs().max(f64::MIN_POSITIVE)
+}
+
+/// Compares sweeps: the first folder is the reference.
+pub fn compare(reference: &Path, others: &[PathBuf]) -> Result<Comparison, CompareError> {
+    let r = Sweep::read(reference)?;
+    let mut models = vec![ModelEntry {
+        folder: reference.display().to_string(),
+        source: r.model.source.clone(),
+        equations: r.model.equations,
+        instabilities: r.instabilities.len(),
+    }];
+    let mut instabilities = Vec::new();
+    let mut extra = Vec::new();
+    for dir in others {
+        let o = Sweep::read(dir)?;
+        let name = dir.display().to_string();
+        models.push(ModelEntry {
+            folder: name.clone(),
+            source: o.model.source.clone(),
+            equations: o.model.equations,
+            instabilities: o.instabilities.len(),
+        });
+        let shared: Vec<(usize, usize)> = r
+            .points
+            .iter()
+            .enumerate()
+            .filter_map(|(k, p)| o.point_at(p.friction).map(|j| (k, j)))
+            .collect();
+        if shared.is_empty() {
+            return Err(CompareError::NoCommonFriction {
+                reference: reference.to_path_buf(),
+                other: dir.clone(),
+            });
+        }
+        let mut used = vec![false; o.instabilities.len()];
+        for ri in &r.instabilities {
+            let f_ref = ri.frequency_hz_at_max;
+            let best = o
+                .instabilities
+                .iter()
+                .enumerate()
+                .filter(|(n, _)| !used[*n])
+                .map(|(n, oi)| (n, relative(oi.frequency_hz_at_max, f_ref)))
+                .filter(|&(_, d)| d < MATCH_TOLERANCE)
+                .min_by(|a, b| a.1.total_cmp(&b.1));
+            let mut entry = InstabilityComparison {
+                reference_frequency_hz: f_ref,
+                reference_onset_mu: ri.onset_mu,
+                reference_max_real_part: ri.max_real_part,
+                model: name.clone(),
+                matched: best.is_some(),
+                model_frequency_hz: None,
+                model_onset_mu: None,
+                mean_error: None,
+                min_error: None,
+                max_error: None,
+                real_part_max_error: None,
+                per_friction: Vec::new(),
+                reference_index: instabilities
+                    .iter()
+                    .filter(|c: &&InstabilityComparison| c.model == name)
+                    .count(),
+                curves: curves(&r, ri, "reference", &shared, false),
+            };
+            if let Some((n, _)) = best {
+                used[n] = true;
+                let oi = &o.instabilities[n];
+                entry.curves.extend(curves(&o, oi, &name, &shared, true));
+                entry.model_frequency_hz = Some(oi.frequency_hz_at_max);
+                entry.model_onset_mu = Some(oi.onset_mu);
+                let mut real_gap = 0.0f64;
+                let mut real_ref = 0.0f64;
+                for &(k, j) in &shared {
+                    let (Some(a), Some(b)) = (pair_modes(&r, ri, k), pair_modes(&o, oi, j)) else {
+                        continue;
+                    };
+                    if a.len() != b.len() {
+                        continue;
+                    }
+                    let e: f64 = a.iter().zip(&b).map(|(x, y)| relative(y.0, x.0)).sum();
+                    entry.per_friction.push((r.points[k].friction, e));
+                    let top = |m: &[(f64, f64)]| m.iter().map(|x| x.1).fold(f64::MIN, f64::max);
+                    real_gap = real_gap.max((top(&b) - top(&a)).abs());
+                    real_ref = real_ref.max(top(&a).abs());
+                }
+                if !entry.per_friction.is_empty() {
+                    let es: Vec<f64> = entry.per_friction.iter().map(|p| p.1).collect();
+                    entry.mean_error = Some(es.iter().sum::<f64>() / es.len() as f64);
+                    entry.min_error = Some(es.iter().copied().fold(f64::INFINITY, f64::min));
+                    entry.max_error = Some(es.iter().copied().fold(0.0, f64::max));
+                    entry.real_part_max_error = (real_ref > 0.0).then(|| real_gap / real_ref);
+                }
+            }
+            instabilities.push(entry);
+        }
+        for (n, oi) in o.instabilities.iter().enumerate() {
+            if !used[n] {
+                extra.push(ExtraInstability {
+                    model: name.clone(),
+                    frequency_hz: oi.frequency_hz_at_max,
+                    onset_mu: oi.onset_mu,
+                    max_real_part: oi.max_real_part,
+                });
+            }
+        }
+    }
+    Ok(Comparison {
+        models,
+        instabilities,
+        extra,
+    })
+}
+
+fn percent(x: Option<f64>) -> String {
+    x.map_or("-".into(), |v| format!("{:.3} %", 100.0 * v))
+}
+
+impl Comparison {
+    /// The tables of compare.md.
+    pub fn markdown(&self) -> String {
+        let mut s = String::from("# squeal compare\n\n## Models\n\n");
+        s.push_str("| | folder | model | equations | instabilities |\n|---|---|---|---|---|\n");
+        for (k, m) in self.models.iter().enumerate() {
+            s.push_str(&format!(
+                "| {} | `{}` | {} | {} | {} |\n",
+                if k == 0 { "reference" } else { "" },
+                m.folder,
+                m.source,
+                m.equations,
+                m.instabilities
+            ));
+        }
+        s.push_str(
+            "\n## Frequency errors per instability (eqs. 12-14; fractions shown as %)\n\n\
+             | reference instability | model | found | model frequency | mean | min | max | real part max |\n\
+             |---|---|---|---|---|---|---|---|\n",
+        );
+        for i in &self.instabilities {
+            s.push_str(&format!(
+                "| {:.1} Hz (onset mu {:.2}) | `{}` | {} | {} | {} | {} | {} | {} |\n",
+                i.reference_frequency_hz,
+                i.reference_onset_mu,
+                i.model,
+                if i.matched { "yes" } else { "**missed**" },
+                i.model_frequency_hz
+                    .map_or("-".into(), |f| format!("{f:.1} Hz")),
+                percent(i.mean_error),
+                percent(i.min_error),
+                percent(i.max_error),
+                percent(i.real_part_max_error)
+            ));
+        }
+        if !self.extra.is_empty() {
+            s.push_str("\n## Instabilities the reference does not have\n\n| model | frequency | onset mu | max real part |\n|---|---|---|---|\n");
+            for e in &self.extra {
+                s.push_str(&format!(
+                    "| `{}` | {:.1} Hz | {:.2} | {:.4e} 1/s |\n",
+                    e.model, e.frequency_hz, e.onset_mu, e.max_real_part
+                ));
+            }
+        }
+        s
+    }
+
+    /// compare.json and compare.md into `dir`, each whole or not at all.
+    pub fn write(&self, dir: &Path) -> Result<(), CompareError> {
+        let err = |file: PathBuf| move |source| CompareError::Write { file, source };
+        std::fs::create_dir_all(dir).map_err(err(dir.to_path_buf()))?;
+        let json = serde_json::to_vec_pretty(self).expect("plain data serialises");
+        let file = dir.join("compare.json");
+        write_atomically(&file, &json).map_err(|e| CompareError::Write {
+            file: file.clone(),
+            source: std::io::Error::other(e.to_string()),
+        })?;
+        let file = dir.join("compare.md");
+        write_atomically(&file, self.markdown().as_bytes()).map_err(|e| CompareError::Write {
+            file: file.clone(),
+            source: std::io::Error::other(e.to_string()),
+        })?;
+        // One figure per reference instability: its pair in the reference and in every
+        // model that has it, frequency and real part against mu.
+        let count = self
+            .instabilities
+            .iter()
+            .map(|i| i.reference_index + 1)
+            .max()
+            .unwrap_or(0);
+        for index in 0..count {
+            let entries: Vec<&InstabilityComparison> = self
+                .instabilities
+                .iter()
+                .filter(|i| i.reference_index == index)
+                .collect();
+            let mut lines = Vec::new();
+            for (n, e) in entries.iter().enumerate() {
+                // The reference's curves once, then each model's.
+                lines.extend(
+                    e.curves
+                        .iter()
+                        .filter(|l| n == 0 || !l.0.starts_with("reference"))
+                        .cloned(),
+                );
+            }
+            let title = format!(
+                "Instability at {:.0} Hz: every model against the reference",
+                entries[0].reference_frequency_hz
+            );
+            let file = dir.join(format!(
+                "instability_{:.0}Hz.svg",
+                entries[0].reference_frequency_hz
+            ));
+            crate::study::plot::write_svg(&file, &crate::study::plot::sweep_tracks(&lines, &title))
+                .map_err(|e| CompareError::Write {
+                    file: file.clone(),
+                    source: std::io::Error::other(e.to_string()),
+                })?;
+        }
+        Ok(())
+    }
+}
+
+/// `squeal compare` (collective: every rank reads, rank 0 writes and prints).
+pub fn run(
+    rt: &crate::petsc::Runtime,
+    reference: &Path,
+    others: &[PathBuf],
+    output: &Path,
+) -> anyhow::Result<()> {
+    let comm = rt.world();
+    let comparison = crate::study::report::collective(comm, compare(reference, others))?;
+    if comm.rank() == 0 {
+        comparison.write(output)?;
+        print!("{}", comparison.markdown());
+        println!("\nresults in {}", output.display());
+    }
+    Ok(())
+}

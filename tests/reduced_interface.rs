@@ -1,0 +1,214 @@
+//! The reduced-interface model (METHOD.md section 5) checked against independent answers:
+//! force balance, the full model it stands for, the convergence of its tie springs, on 1 and
+//! 2 ranks (see `common/harness.rs`).
+
+mod common;
+
+use common::harness::Check;
+use squeal::analysis::cea::{self, CeaOptions};
+use squeal::analysis::restraint;
+use squeal::analysis::statics::{self, StaticOptions, StaticProblem};
+use squeal::contact;
+use squeal::fem::element::MassRule;
+use squeal::model::{self, Model, Operators};
+use squeal::petsc::Runtime;
+use squeal::reduce::{reduce_interface, GridSize, InterfaceSettings};
+use squeal::study::config::Study;
+
+const CHECKS: &[Check] = &[
+    Check {
+        name: "reduced_interface_carries_the_load_and_slides",
+        run: balance,
+        ranks: &[1, 2],
+        agreement: 1e-8,
+    },
+    Check {
+        name: "more_reduced_contact_nodes_come_closer_to_the_full_model",
+        run: convergence,
+        ranks: &[1, 2],
+        agreement: 1e-8,
+    },
+    Check {
+        name: "tie_springs_converge_as_their_stiffness_grows",
+        run: tie_springs,
+        ranks: &[2],
+        agreement: 1e-8,
+    },
+];
+
+fn main() {
+    common::harness::main(CHECKS);
+}
+
+fn e(err: impl std::fmt::Display) -> String {
+    err.to_string()
+}
+
+/// The tiny built-in brake study at one friction value.
+fn tiny(mu: f64) -> Model {
+    let mut study = Study::builtin("tiny");
+    for c in &mut study.contacts {
+        c.friction = mu;
+    }
+    Model::from_spec(&study.model_spec()).unwrap()
+}
+
+fn reduced(model: &Model, count: usize, spring_factor: f64) -> Result<Model, String> {
+    let settings = InterfaceSettings {
+        size: GridSize::Count(count),
+        spring_factor,
+        ..Default::default()
+    };
+    Ok(reduce_interface(model, &settings).map_err(e)?.model)
+}
+
+/// The static equilibrium and the CEA's modes (frequency, real part) below `fmax`.
+struct Solved {
+    displacement: Vec<[f64; 3]>,
+    modes: Vec<(f64, f64)>,
+}
+
+fn solve(rt: &Runtime, model: &Model, fmax: f64) -> Result<Solved, String> {
+    let comm = rt.world();
+    let Operators {
+        dofs,
+        stiffness: k,
+        mass: m,
+        load,
+    } = model::assemble(comm, model, MassRule::Exact).map_err(e)?;
+    let problem = StaticProblem {
+        dofs: &dofs,
+        stiffness: &k,
+        load: &load,
+        pairs: &model.pairs,
+        bodies: &restraint::bodies(&model.mesh),
+    };
+    let solution = statics::solve(comm, &problem, None, &StaticOptions::default()).map_err(e)?;
+    let kt = statics::tangent(comm, &k, &dofs, &model.pairs, &solution.displacement).map_err(e)?;
+    let result = cea::undamped(
+        comm,
+        &kt,
+        &m,
+        &CeaOptions {
+            max_frequency_hz: fmax,
+            ..Default::default()
+        },
+    )
+    .map_err(e)?;
+    Ok(Solved {
+        displacement: solution.displacement,
+        modes: result
+            .modes
+            .iter()
+            .map(|m| (m.frequency_hz, m.real_part))
+            .collect(),
+    })
+}
+
+/// The pads carry the whole brake load through the reduced contact nodes (the springs of
+/// the built-in study act in the disc plane), and every closed node slides along the disc's
+/// motion: the braking torque is mu N times a radius inside the pad (90-135 mm).
+fn balance(rt: &Runtime) -> Result<Vec<f64>, String> {
+    let mu = 0.5;
+    let full = tiny(mu);
+    let model = reduced(&full, 22, 1.0)?;
+    let solved = solve(rt, &model, 6000.0)?;
+    let mut normal = 0.0;
+    for pair in &model.pairs {
+        let s = contact::summarize(pair, &solved.displacement).map_err(e)?;
+        normal += s.normal_force;
+        if s.closed == 0 {
+            return Err(format!(
+                "{}: no reduced contact node closed",
+                pair.settings.name
+            ));
+        }
+        let r = s.effective_radius;
+        if !(0.09..=0.135).contains(&r) {
+            return Err(format!("{}: effective radius {r}", pair.settings.name));
+        }
+        // Friction is mu times the normal force at every sliding point: the resultant of
+        // mu p t cannot exceed mu N, and the torque is mu N r_eff by definition above.
+        let f = s.friction_force.iter().map(|c| c * c).sum::<f64>().sqrt();
+        if f > mu * s.normal_force * (1.0 + 1e-12) {
+            return Err(format!("friction {f} > mu N = {}", mu * s.normal_force));
+        }
+    }
+    let applied = model.applied_load();
+    // Newton stops at 1e-10 of the first residual, or at the round-off floor below 1e-8
+    // of it (see StaticOptions): the balance holds to that.
+    if (normal - applied).abs() > 1e-8 * applied {
+        return Err(format!("normal force {normal} vs applied load {applied}"));
+    }
+    Ok(solved.modes.iter().map(|m| m.0).collect())
+}
+
+/// Mean relative distance from each reference mode to the nearest mode of `other`.
+fn mean_distance(reference: &[(f64, f64)], other: &[(f64, f64)]) -> f64 {
+    let d: f64 = reference
+        .iter()
+        .map(|r| {
+            other
+                .iter()
+                .map(|o| (o.0 - r.0).abs() / r.0)
+                .fold(f64::INFINITY, f64::min)
+        })
+        .sum();
+    d / reference.len() as f64
+}
+
+/// Frictionless (real modes, no instabilities to pair): the modes of the reduced-interface
+/// models come closer to the full model's as the reduced contact nodes grow from 6 to 22
+/// per pad (the tiny pads' mesh is too coarse to couple more).
+fn convergence(rt: &Runtime) -> Result<Vec<f64>, String> {
+    let full_model = tiny(0.0);
+    let full = solve(rt, &full_model, 6000.0)?;
+    let mut out = Vec::new();
+    let mut errors = Vec::new();
+    for count in [6, 22] {
+        let r = solve(rt, &reduced(&full_model, count, 1.0)?, 6000.0)?;
+        let error = mean_distance(&full.modes, &r.modes);
+        if rt.world().rank() == 0 {
+            eprintln!("{count} reduced contact nodes per pad: mean frequency distance {error:.4e}");
+        }
+        errors.push(error);
+        out.extend(r.modes.iter().map(|m| m.0));
+    }
+    if errors[1] >= errors[0] {
+        return Err(format!("no convergence: {errors:?}"));
+    }
+    Ok(out)
+}
+
+/// The tie springs only transmit: the eigenvalues change by O(1/k_s) as k_s grows, so
+/// multiplying the default by 10 then by 100 changes them ten times less the second time
+/// (a ratio between 5 and 20 allows for the contact states and round-off).
+fn tie_springs(rt: &Runtime) -> Result<Vec<f64>, String> {
+    let full = tiny(0.5);
+    let mut sets = Vec::new();
+    for factor in [1.0, 10.0, 100.0] {
+        sets.push(solve(rt, &reduced(&full, 22, factor)?, 6000.0)?.modes);
+    }
+    if sets[0].len() != sets[1].len() || sets[1].len() != sets[2].len() {
+        return Err(format!(
+            "mode counts {} {} {}",
+            sets[0].len(),
+            sets[1].len(),
+            sets[2].len()
+        ));
+    }
+    let change = |a: &[(f64, f64)], b: &[(f64, f64)]| {
+        a.iter()
+            .zip(b)
+            .map(|(x, y)| (x.0 - y.0).abs() / x.0)
+            .fold(0.0, f64::max)
+    };
+    let (d1, d2) = (change(&sets[0], &sets[1]), change(&sets[1], &sets[2]));
+    if rt.world().rank() == 0 {
+        eprintln!("largest frequency change: k_s x1 -> x10 {d1:.3e}, x10 -> x100 {d2:.3e}");
+    }
+    if d1 > 1e-2 || !(5.0..=20.0).contains(&(d1 / d2)) {
+        return Err(format!("tie springs: changes {d1:e} then {d2:e}"));
+    }
+    Ok(vec![d1, d2])
+}
