@@ -159,6 +159,20 @@ pub struct ModelEntry {
     pub instabilities: usize,
 }
 
+/// The static states of one model against the reference's at one friction value (paper
+/// section 4.2, Figures 7 and 9-11).
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct StaticComparison {
+    pub model: String,
+    pub friction: f64,
+    /// Fraction of the model's contact points whose state (open/closed) is the state of the
+    /// reference's contact point nearest to it on the same pair.
+    pub state_agreement: f64,
+    /// Per pair: sqrt(sum A (p - p_ref)^2) / sqrt(sum A p_ref^2) over the pad surface nodes,
+    /// A their tributary areas (the contact force spread back on the surface).
+    pub pressure_l2: Vec<(String, f64)>,
+}
+
 /// The comparison, as written to compare.json.
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct Comparison {
@@ -167,6 +181,57 @@ pub struct Comparison {
     pub instabilities: Vec<InstabilityComparison>,
     /// Instabilities found in another model but not in the reference.
     pub extra: Vec<ExtraInstability>,
+    /// Contact states and pressures, per model and shared friction value (where both sweeps
+    /// wrote contact.json).
+    pub statics: Vec<StaticComparison>,
+}
+
+fn read_contact(dir: &Path, mu: f64) -> Option<crate::study::sweep::ContactMap> {
+    let file = dir.join(format!("mu_{mu:.3}")).join("contact.json");
+    serde_json::from_slice(&std::fs::read(file).ok()?).ok()
+}
+
+fn compare_statics(reference: &Path, other: &Path, mu: f64) -> Option<StaticComparison> {
+    let (r, o) = (read_contact(reference, mu)?, read_contact(other, mu)?);
+    let d2 = |a: [f64; 3], b: [f64; 3]| (0..3).map(|c| (a[c] - b[c]).powi(2)).sum::<f64>();
+    let mut agree = 0usize;
+    for p in &o.points {
+        let nearest = r
+            .points
+            .iter()
+            .filter(|q| q.pair == p.pair)
+            .min_by(|a, b| d2(a.position, p.position).total_cmp(&d2(b.position, p.position)));
+        if nearest.is_some_and(|q| q.closed == p.closed) {
+            agree += 1;
+        }
+    }
+    let mut pairs: Vec<String> = r.surface.iter().map(|s| s.pair.clone()).collect();
+    pairs.dedup();
+    let mut pressure_l2 = Vec::new();
+    for pair in pairs {
+        let reference: std::collections::BTreeMap<usize, (f64, f64)> = r
+            .surface
+            .iter()
+            .filter(|s| s.pair == pair)
+            .map(|s| (s.node, (s.area, s.pressure)))
+            .collect();
+        let (mut num, mut den) = (0.0, 0.0);
+        for s in o.surface.iter().filter(|s| s.pair == pair) {
+            if let Some(&(area, p_ref)) = reference.get(&s.node) {
+                num += area * (s.pressure - p_ref).powi(2);
+                den += area * p_ref * p_ref;
+            }
+        }
+        if den > 0.0 {
+            pressure_l2.push((pair, (num / den).sqrt()));
+        }
+    }
+    Some(StaticComparison {
+        model: other.display().to_string(),
+        friction: mu,
+        state_agreement: agree as f64 / o.points.len().max(1) as f64,
+        pressure_l2,
+    })
 }
 
 /// The two modes of an instability at point k, sorted by frequency (lower first).
@@ -219,6 +284,7 @@ pub fn compare(reference: &Path, others: &[PathBuf]) -> Result<Comparison, Compa
     }];
     let mut instabilities = Vec::new();
     let mut extra = Vec::new();
+    let mut statics = Vec::new();
     for dir in others {
         let o = Sweep::read(dir)?;
         let name = dir.display().to_string();
@@ -239,6 +305,9 @@ pub fn compare(reference: &Path, others: &[PathBuf]) -> Result<Comparison, Compa
                 reference: reference.to_path_buf(),
                 other: dir.clone(),
             });
+        }
+        for &(k, _) in &shared {
+            statics.extend(compare_statics(reference, dir, r.points[k].friction));
         }
         let mut used = vec![false; o.instabilities.len()];
         for ri in &r.instabilities {
@@ -316,6 +385,7 @@ pub fn compare(reference: &Path, others: &[PathBuf]) -> Result<Comparison, Compa
         models,
         instabilities,
         extra,
+        statics,
     })
 }
 
@@ -357,6 +427,27 @@ impl Comparison {
                 percent(i.max_error),
                 percent(i.real_part_max_error)
             ));
+        }
+        if !self.statics.is_empty() {
+            s.push_str(
+                "\n## Static contact state and pressure (section 4.2)\n\n\
+                 | model | mu | contact states agreeing | pressure L2 difference per pad |\n\
+                 |---|---|---|---|\n",
+            );
+            for c in &self.statics {
+                let l2: Vec<String> = c
+                    .pressure_l2
+                    .iter()
+                    .map(|(p, v)| format!("{p}: {:.1} %", 100.0 * v))
+                    .collect();
+                s.push_str(&format!(
+                    "| `{}` | {:.2} | {:.1} % | {} |\n",
+                    c.model,
+                    c.friction,
+                    100.0 * c.state_agreement,
+                    l2.join(", ")
+                ));
+            }
         }
         if !self.extra.is_empty() {
             s.push_str("\n## Instabilities the reference does not have\n\n| model | frequency | onset mu | max real part |\n|---|---|---|---|\n");
@@ -442,4 +533,86 @@ pub fn run(
         println!("\nresults in {}", output.display());
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A sweep folder with one instability: tracks 0 and 1 at the given frequencies per mu,
+    /// coupled (track 1 unstable, partner 0) with real part `a` at every point.
+    fn write_sweep(dir: &Path, frequencies: &[(f64, f64)], a: f64) {
+        let points: Vec<serde_json::Value> = frequencies
+            .iter()
+            .enumerate()
+            .map(|(k, (f0, f1))| {
+                serde_json::json!({
+                    "friction": 0.1 * (k + 1) as f64,
+                    "eigenvalues": [
+                        {"frequency_hz": f0, "real_part": -a},
+                        {"frequency_hz": f1, "real_part": a}
+                    ]
+                })
+            })
+            .collect();
+        let n = frequencies.len();
+        let doc = serde_json::json!({
+            "model": {"source": dir.display().to_string(), "equations": 10},
+            "points": points,
+            "tracks": [
+                {"id": 0, "members": vec![Some(0usize); n]},
+                {"id": 1, "members": vec![Some(1usize); n]}
+            ],
+            "instabilities": [{
+                "track": 1, "partner": 0, "onset_mu": 0.1, "max_real_part": a,
+                "frequency_hz_at_max": frequencies[n - 1].1
+            }]
+        });
+        std::fs::create_dir_all(dir).unwrap();
+        std::fs::write(dir.join("sweep.json"), doc.to_string()).unwrap();
+    }
+
+    /// Eqs. 12-14 by hand: per mu the two modes' relative errors add up.
+    #[test]
+    fn errors_are_the_papers_equations() {
+        let root = tempfile::tempdir().unwrap();
+        let (r, o) = (root.path().join("ref"), root.path().join("other"));
+        write_sweep(&r, &[(1000.0, 1100.0), (1000.0, 1000.0)], 10.0);
+        write_sweep(&o, &[(1010.0, 1100.0), (990.0, 1020.0)], 12.0);
+        let c = compare(&r, std::slice::from_ref(&o)).unwrap();
+        assert_eq!(c.instabilities.len(), 1);
+        let i = &c.instabilities[0];
+        assert!(i.matched);
+        // mu 0.1: 10/1000 + 0 = 0.01; mu 0.2: 10/1000 + 20/1000 = 0.03.
+        let close = |x: Option<f64>, y: f64| (x.unwrap() - y).abs() < 1e-15;
+        assert!(close(i.mean_error, 0.02), "{i:?}");
+        assert!(
+            close(i.min_error, 0.01) && close(i.max_error, 0.03),
+            "{i:?}"
+        );
+        // Real parts 12 against 10: 20 %.
+        assert!(close(i.real_part_max_error, 0.2), "{i:?}");
+        assert!(c.extra.is_empty());
+    }
+
+    /// An instability 10 % away is another instability: missed in one model, extra in the
+    /// other.
+    #[test]
+    fn far_instabilities_are_missed_and_extra() {
+        let root = tempfile::tempdir().unwrap();
+        let (r, o) = (root.path().join("ref"), root.path().join("other"));
+        write_sweep(&r, &[(1000.0, 1000.0)], 10.0);
+        write_sweep(&o, &[(1100.0, 1100.0)], 10.0);
+        let c = compare(&r, std::slice::from_ref(&o)).unwrap();
+        assert!(!c.instabilities[0].matched && c.instabilities[0].mean_error.is_none());
+        assert_eq!(c.extra.len(), 1);
+        assert!(c.markdown().contains("**missed**"));
+    }
+
+    #[test]
+    fn a_folder_without_a_sweep_is_named() {
+        let root = tempfile::tempdir().unwrap();
+        let e = compare(root.path(), &[root.path().to_path_buf()]).unwrap_err();
+        assert!(e.to_string().contains("sweep.json"), "{e}");
+    }
 }

@@ -3,7 +3,10 @@
 //! gives the sliding equilibrium, SLEPc the CEA about it.
 
 use super::output::{ModelInfo, PairReport, SweepPointReport};
-use super::{FrictionModel, PointFields, PointOutcome, UnstableShape};
+use super::{
+    ContactMap, ContactMapPoint, FrictionModel, PointFields, PointOutcome, SurfacePressure,
+    UnstableShape,
+};
 use crate::analysis::cea::{self, CeaOptions, RayleighDamping};
 use crate::analysis::restraint::{self, Body};
 use crate::analysis::statics::{self, StaticOptions, StaticProblem};
@@ -34,6 +37,16 @@ pub struct FullModel<'rt> {
     ranks: usize,
     /// The previous point's equilibrium (warm start).
     previous: Option<Vec<[f64; 3]>>,
+    /// Where each swept pair's contact forces land on its pad surface.
+    spread: Vec<SweptSurface>,
+}
+
+/// A swept pair's pad surface: per contact point, the surface nodes its force goes to with
+/// their weights, and every surface node's tributary area.
+struct SweptSurface {
+    pair: usize,
+    per_point: Vec<Vec<(usize, f64)>>,
+    areas: std::collections::BTreeMap<usize, f64>,
 }
 
 impl<'rt> FullModel<'rt> {
@@ -45,7 +58,10 @@ impl<'rt> FullModel<'rt> {
             .and_then(|model| match &study.reduction {
                 None => Ok((model, None)),
                 Some(r) => reduce::reduce_interface(&model, &r.settings())
-                    .map(|reduced| (reduced.model.clone(), Some(reduced.summary())))
+                    .map(|reduced| {
+                        let spread = reduced_spread(&reduced);
+                        (reduced.model.clone(), Some((reduced.summary(), spread)))
+                    })
                     .map_err(|e| anyhow::anyhow!("{file}: reduction: {e}")),
             });
         let (model, reduction) = collective(comm, local)?;
@@ -53,7 +69,7 @@ impl<'rt> FullModel<'rt> {
             for w in &model.warnings {
                 tracing::warn!("{w}");
             }
-            if let Some(summary) = reduction {
+            if let Some((summary, _)) = &reduction {
                 for line in summary.lines() {
                     tracing::info!("reduced interface: {line}");
                 }
@@ -71,6 +87,9 @@ impl<'rt> FullModel<'rt> {
             ..Default::default()
         };
         let mut full = Self::new(comm, model, operators, cea, study.analysis.increments);
+        if let Some((_, spread)) = reduction {
+            full.spread = spread;
+        }
         if let (Some(rayleigh), Some(matrix)) = (study.analysis.damping, damping) {
             full = full.with_damping(rayleigh, matrix);
         }
@@ -91,7 +110,9 @@ impl<'rt> FullModel<'rt> {
             .iter()
             .flat_map(|&n| (0..3).filter_map(move |c| dofs.equation(n, c)))
             .collect();
+        let spread = node_to_surface_spread(&model);
         FullModel {
+            spread,
             bodies: restraint::bodies(&model.mesh),
             model,
             operators,
@@ -251,7 +272,7 @@ impl<'rt> FrictionModel<'rt> for FullModel<'rt> {
             peak_rss_mib_max_rank: peak[0],
             peak_rss_mib_all_ranks: peak_sum[0],
         };
-        let fields = root.then(|| point_fields(&self.model, &equilibrium, unstable));
+        let fields = root.then(|| self.point_fields(&equilibrium, unstable));
         self.previous = Some(equilibrium.displacement);
         Ok(PointOutcome {
             report,
@@ -267,27 +288,105 @@ fn mesh_part(mut values: Vec<[f64; 3]>, mesh: &Mesh) -> Vec<[f64; 3]> {
     values
 }
 
-/// The static displacement and each slave node's contact pressure and state.
-fn point_fields(
-    model: &Model,
-    equilibrium: &statics::StaticSolution,
-    unstable: Vec<UnstableShape>,
-) -> PointFields {
-    let n = model.mesh.nodes.len();
-    let mut contact_pressure = vec![0.0; n];
-    let mut contact_closed = vec![-1.0; n];
-    for (pair, states) in model.pairs.iter().zip(&equilibrium.contact) {
-        for (pt, s) in pair.points.iter().zip(states) {
-            if pt.slave_node < n {
-                contact_pressure[pt.slave_node] = s.pressure;
-                contact_closed[pt.slave_node] = if s.closed { 1.0 } else { 0.0 };
-            }
+/// Where a node-to-surface model's contact forces go: each swept pair's points to their
+/// slave node.
+fn node_to_surface_spread(model: &Model) -> Vec<SweptSurface> {
+    let mut spread = Vec::new();
+    for (i, pair) in model.pairs.iter().enumerate() {
+        let Some(Some((slave, _))) = model.pair_surfaces.get(i) else {
+            continue;
+        };
+        let Some(surface) = model.mesh.surfaces.get(slave) else {
+            continue;
+        };
+        if model.swept[i] {
+            spread.push(SweptSurface {
+                pair: i,
+                per_point: pair.points.iter().map(|p| p.slave.clone()).collect(),
+                areas: contact::tributary_areas(&model.mesh, surface)
+                    .into_iter()
+                    .collect(),
+            });
         }
     }
-    PointFields {
-        static_displacement: mesh_part(equilibrium.displacement.clone(), &model.mesh),
-        contact_pressure,
-        contact_closed,
-        unstable,
+    spread
+}
+
+/// A reduced interface's contact forces go to its distributing couplings' pad nodes.
+fn reduced_spread(reduced: &reduce::ReducedInterface) -> Vec<SweptSurface> {
+    let model = &reduced.model;
+    let mut spread = Vec::new();
+    for pad in &reduced.pads {
+        let Some(i) = model.pairs.iter().position(|p| p.settings.name == pad.pair) else {
+            continue;
+        };
+        let Some(surface) = model.mesh.surfaces.get(&pad.grid.surface) else {
+            continue;
+        };
+        spread.push(SweptSurface {
+            pair: i,
+            per_point: pad
+                .couplings
+                .iter()
+                .map(|c| c.nodes.iter().map(|n| (n.node, n.weight)).collect())
+                .collect(),
+            areas: contact::tributary_areas(&model.mesh, surface)
+                .into_iter()
+                .collect(),
+        });
+    }
+    spread
+}
+
+impl FullModel<'_> {
+    /// The static displacement, the contact map and the pad surfaces' pressure (rank 0).
+    fn point_fields(
+        &self,
+        equilibrium: &statics::StaticSolution,
+        unstable: Vec<UnstableShape>,
+    ) -> PointFields {
+        let model = &self.model;
+        let n = model.mesh.nodes.len();
+        let mut contact_pressure = vec![0.0; n];
+        let mut contact_closed = vec![-1.0; n];
+        let mut map = ContactMap::default();
+        for swept in &self.spread {
+            let pair = &model.pairs[swept.pair];
+            let states = &equilibrium.contact[swept.pair];
+            let mut force_on: std::collections::BTreeMap<usize, f64> = Default::default();
+            for ((pt, s), nodes) in pair.points.iter().zip(states).zip(&swept.per_point) {
+                map.points.push(ContactMapPoint {
+                    pair: pair.settings.name.clone(),
+                    position: pt.position,
+                    closed: s.closed,
+                    normal_force: s.normal_force,
+                });
+                for &(node, w) in nodes {
+                    *force_on.entry(node).or_default() += w * s.normal_force;
+                }
+                if pt.slave_node < n {
+                    contact_closed[pt.slave_node] = if s.closed { 1.0 } else { 0.0 };
+                }
+            }
+            // Every surface node, loaded or not, so that two models compare node by node.
+            for (&node, &area) in &swept.areas {
+                let pressure = force_on.get(&node).copied().unwrap_or(0.0) / area;
+                contact_pressure[node] = pressure;
+                map.surface.push(SurfacePressure {
+                    pair: pair.settings.name.clone(),
+                    node,
+                    position: model.mesh.nodes[node],
+                    area,
+                    pressure,
+                });
+            }
+        }
+        PointFields {
+            contact: map,
+            static_displacement: mesh_part(equilibrium.displacement.clone(), &model.mesh),
+            contact_pressure,
+            contact_closed,
+            unstable,
+        }
     }
 }

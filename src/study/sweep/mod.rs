@@ -32,11 +32,46 @@ pub struct UnstableShape {
     pub im: Vec<[f64; 3]>,
 }
 
+/// One contact point's state at the equilibrium (contact.json).
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+pub struct ContactMapPoint {
+    pub pair: String,
+    pub position: [f64; 3],
+    pub closed: bool,
+    /// N (the penalty force p of the point).
+    pub normal_force: f64,
+}
+
+/// The contact pressure on one node of a swept pair's slave (pad) surface: each contact
+/// point's normal force spread on the surface nodes it stands for (a node-to-surface point:
+/// its own node; a reduced contact node: its distributing coupling's nodes, by their
+/// weights), over each node's tributary area. Comparable node by node between a full and a
+/// reduced-interface model of the same mesh.
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+pub struct SurfacePressure {
+    pub pair: String,
+    pub node: usize,
+    pub position: [f64; 3],
+    pub area: f64,
+    pub pressure: f64,
+}
+
+/// The static contact state of a point (contact.json): every swept pair's contact points,
+/// and the pressure on their pad surfaces.
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
+pub struct ContactMap {
+    pub points: Vec<ContactMapPoint>,
+    pub surface: Vec<SurfacePressure>,
+}
+
 /// Fields on the mesh nodes for a point's VTU file.
 #[derive(Clone, Debug, Default)]
 pub struct PointFields {
+    /// The swept pairs' contact state, for contact.json.
+    pub contact: ContactMap,
     pub static_displacement: Vec<[f64; 3]>,
-    /// Contact pressure at each slave node (0 elsewhere).
+    /// Contact pressure at each slave surface node (0 elsewhere): a reduced interface's
+    /// forces spread on the surface as in [`SurfacePressure`].
     pub contact_pressure: Vec<f64>,
     /// 1 closed, 0 open at each slave node, -1 elsewhere.
     pub contact_closed: Vec<f64>,

@@ -152,6 +152,10 @@ pub fn write_point(
     let Some(fields) = fields else {
         return Ok(());
     };
+    write_atomically(
+        &dir.join("contact.json"),
+        &serde_json::to_vec(&fields.contact)?,
+    )?;
     let mut all = vec![
         Field::vector("static_displacement", &fields.static_displacement),
         Field::scalar("contact_pressure", fields.contact_pressure.clone()),
