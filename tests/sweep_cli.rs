@@ -373,3 +373,88 @@ fn bad_reductions_name_the_key_or_the_node_and_write_nothing() {
     );
     assert!(!out.join("sweep.json").exists());
 }
+
+/// `squeal compare` on real sweeps: the tiny brake's full model and its 22-node reduced
+/// interface. A sweep compared with itself has no error at all (every instability matched,
+/// eqs. 12-14 zero, every contact state agreeing, no pressure difference); the reduced model
+/// finds the full model's 5.1 kHz instability within the paper's 2 % (Tables 4-5).
+#[test]
+fn compare_reads_sweep_folders_and_measures_the_reduced_model() {
+    let dir = scratch("compare");
+    let sweep = |name: &str, extra: &[&str]| {
+        let out = dir.join(name);
+        let mut args = vec![
+            "sweep",
+            "--preset",
+            "tiny",
+            "--friction",
+            "0.3,0.6",
+            "--fmax",
+            "6000",
+            "-o",
+            out.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        let run = common::mpirun(2, squeal(), &args);
+        assert!(run.status.success(), "{}", common::text(&run));
+        assert!(out.join("mu_0.300/contact.json").is_file());
+        out
+    };
+    let full = sweep("full", &[]);
+    let reduced = sweep("reduced", &["--contact-nodes-per-pad", "22"]);
+    let out = dir.join("cmp");
+    let run = common::mpirun(
+        2,
+        squeal(),
+        &[
+            "compare",
+            full.to_str().unwrap(),
+            full.to_str().unwrap(),
+            reduced.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ],
+    );
+    assert!(run.status.success(), "{}", common::text(&run));
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("compare.json")).unwrap()).unwrap();
+    let full_name = full.to_str().unwrap();
+    for i in json["instabilities"].as_array().unwrap() {
+        let max = i["max_error"].as_f64();
+        if i["model"] == full_name {
+            assert!(i["matched"].as_bool().unwrap() && max == Some(0.0), "{i}");
+        } else if (i["reference_frequency_hz"].as_f64().unwrap() - 5160.0).abs() < 100.0 {
+            assert!(i["matched"].as_bool().unwrap(), "{i}");
+            assert!(max.unwrap() < 0.02, "{i}");
+        }
+    }
+    for s in json["statics"].as_array().unwrap() {
+        if s["model"] == full_name {
+            assert_eq!(s["state_agreement"].as_f64(), Some(1.0), "{s}");
+            for (_, l2) in s["pressure_l2"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|p| (p[0].clone(), p[1].as_f64().unwrap()))
+            {
+                assert_eq!(l2, 0.0, "{s}");
+            }
+        }
+    }
+    let md = std::fs::read_to_string(out.join("compare.md")).unwrap();
+    assert!(
+        md.contains("eqs. 12-14") && md.contains("contact states agreeing"),
+        "{md}"
+    );
+    let svgs = std::fs::read_dir(&out)
+        .unwrap()
+        .filter(|e| {
+            e.as_ref()
+                .unwrap()
+                .path()
+                .extension()
+                .is_some_and(|x| x == "svg")
+        })
+        .count();
+    assert!(svgs >= 2, "{svgs} plots");
+}

@@ -182,6 +182,44 @@ fn physical_gradients(
     Ok((g, det))
 }
 
+/// The stress (xx, yy, zz, yz, xz, xy) of an isotropic material at parametric point `p` of
+/// an element with nodal displacements `u`: sigma = lambda tr(eps) I + 2 mu eps, eps the
+/// symmetric gradient of u. Recovered at the nodes, it is discontinuous between elements.
+pub fn stress_at(
+    x: &[[f64; 3]; 10],
+    u: &[[f64; 3]; 10],
+    p: [f64; 3],
+    lambda: f64,
+    mu: f64,
+) -> Result<[f64; 6], ElementError> {
+    let (g, _) = physical_gradients(x, p, 0)?;
+    // grad u [i][j] = du_i / dx_j
+    let mut h = [[0.0; 3]; 3];
+    for (ua, ga) in u.iter().zip(&g) {
+        for i in 0..3 {
+            for j in 0..3 {
+                h[i][j] += ua[i] * ga[j];
+            }
+        }
+    }
+    let e = |i: usize, j: usize| 0.5 * (h[i][j] + h[j][i]);
+    let trace = h[0][0] + h[1][1] + h[2][2];
+    Ok([
+        lambda * trace + 2.0 * mu * e(0, 0),
+        lambda * trace + 2.0 * mu * e(1, 1),
+        lambda * trace + 2.0 * mu * e(2, 2),
+        2.0 * mu * e(1, 2),
+        2.0 * mu * e(0, 2),
+        2.0 * mu * e(0, 1),
+    ])
+}
+
+/// The von Mises equivalent of a stress (xx, yy, zz, yz, xz, xy).
+pub fn von_mises(s: [f64; 6]) -> f64 {
+    let d = (s[0] - s[1]).powi(2) + (s[1] - s[2]).powi(2) + (s[2] - s[0]).powi(2);
+    (0.5 * d + 3.0 * (s[3] * s[3] + s[4] * s[4] + s[5] * s[5])).sqrt()
+}
+
 /// `det J` at quadrature point number `point`, checked positive.
 fn checked_determinant(x: &[[f64; 3]; 10], p: [f64; 3], point: usize) -> Result<f64, ElementError> {
     let det = jacobian_determinant(x, p);

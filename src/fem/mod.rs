@@ -6,6 +6,7 @@ pub mod dofs;
 pub mod element;
 pub mod loads;
 pub mod springs;
+pub mod stress;
 pub mod tet10;
 
 pub use assemble::{AssemblyError, StructureOptions};

