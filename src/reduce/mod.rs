@@ -17,6 +17,7 @@ mod error;
 pub mod grid;
 pub mod interface;
 pub mod radius;
+pub mod superelement;
 
 pub use coupling::{
     couple_grid, distributing_coupling, CouplingNode, DistributingCoupling, Weighting,

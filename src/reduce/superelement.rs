@@ -1,0 +1,85 @@
+//! The super-element (METHOD.md section 6; the paper's section 3.2.1) as plain data: a
+//! Craig-Bampton reduction of a reduced-interface model at one friction value mu_SE, with
+//! the swept (disc/pad) contact removed and every other contact linearised, kept on the
+//! reduced contact nodes. Everything the dense assembly needs, and nothing of the mesh, so it
+//! can be saved and used without it.
+//!
+//! Reduced coordinates q, in this order:
+//! - boundary: for each node-to-node pair k (pads in order, nodes in grid order), the three
+//!   displacement components of the pad contact node c_k, then of the disc node d_k:
+//!   q[6k..6k+3] = u(c_k), q[6k+3..6k+6] = u(d_k);
+//! - then the fixed-interface modes (mass-normalised, ascending), and last the load's static
+//!   correction (the interior response to the external load with the boundary held), which
+//!   puts the super-element's own equilibrium exactly in the span of T so that eq. 5 holds
+//!   to round-off.
+//!
+//! u = T q with T = [[I, 0, 0], [Psi, Phi, r]] in (boundary, interior) order.
+
+use serde::{Deserialize, Serialize};
+
+/// One node-to-node contact of the reduced interface, as the super-element keeps it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct BoundaryPair {
+    /// The pair (disc/pad side) it belongs to.
+    pub pair: String,
+    /// Reference positions of the pad contact node and of the disc node.
+    pub pad_position: [f64; 3],
+    pub disc_position: [f64; 3],
+    /// Unit normal of the disc face, pointing out of the disc (towards the pad).
+    pub normal: [f64; 3],
+    /// Unit sliding direction (friction on the pad is +mu F t); `None`: no friction.
+    pub sliding: Option<[f64; 3]>,
+    /// Initial gap g0 (negative = penetration) along `normal`.
+    pub initial_gap: f64,
+    /// Tributary area and penalty per unit area: the full law's stiffness is penalty * area.
+    pub area: f64,
+    pub penalty: f64,
+    /// Whether the pair may open.
+    pub separation: bool,
+    /// Normal contact force of the full (penalty) law at the super-element's equilibrium,
+    /// N (>= 0; 0 when open): F_nl of eq. 8.
+    pub normal_force: f64,
+}
+
+/// Where a super-element came from and what it holds (the file's header).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SuperElementHeader {
+    /// "SI" or whatever the mesh uses; frequencies assume seconds.
+    pub units: String,
+    /// The friction value of the swept pairs at which it was made.
+    pub friction: f64,
+    /// Fixed-interface modes kept up to this frequency (Hz).
+    pub cutoff_hz: f64,
+    /// Number of fixed-interface modes kept.
+    pub modes: usize,
+    /// Reduced size: 6 per boundary pair + modes + 1 (the static correction).
+    pub size: usize,
+    /// State of every other (non-swept) contact pair's points at the equilibrium: per pair,
+    /// its name and each point's closed flag (a change means a new super-element).
+    pub other_contacts: Vec<(String, Vec<bool>)>,
+    /// Hashes of the mesh and of the study it came from (hex), to refuse another's.
+    pub mesh_hash: String,
+    pub study_hash: String,
+    pub boundary: Vec<BoundaryPair>,
+}
+
+/// A super-element: its header and the dense reduced operators.
+#[derive(Clone, Debug)]
+pub struct SuperElement {
+    pub header: SuperElementHeader,
+    /// K_r = T^T K_t T (without the swept contact; unsymmetric allowed), size x size.
+    pub stiffness: faer::Mat<f64>,
+    /// M_r = T^T M T, symmetric positive definite.
+    pub mass: faer::Mat<f64>,
+    /// T^T F_ext.
+    pub load: Vec<f64>,
+    /// q_s: the reduced coordinates of the equilibrium it was made at.
+    pub equilibrium: Vec<f64>,
+}
+
+impl SuperElement {
+    /// Index of the first modal coordinate (after the boundary).
+    pub fn boundary_size(&self) -> usize {
+        6 * self.header.boundary.len()
+    }
+}
