@@ -53,6 +53,8 @@ struct Mode {
 struct Point {
     friction: f64,
     eigenvalues: Vec<Mode>,
+    #[serde(default)]
+    seconds: f64,
 }
 
 #[derive(Clone, Debug, serde::Deserialize)]
@@ -157,6 +159,14 @@ pub struct ModelEntry {
     pub source: String,
     pub equations: usize,
     pub instabilities: usize,
+    /// Median wall time of a friction value (static + CEA), s.
+    pub seconds_per_friction: f64,
+}
+
+fn median_seconds(s: &Sweep) -> f64 {
+    let mut t: Vec<f64> = s.points.iter().map(|p| p.seconds).collect();
+    t.sort_by(f64::total_cmp);
+    t.get(t.len() / 2).copied().unwrap_or(0.0)
 }
 
 /// The static states of one model against the reference's at one friction value (paper
@@ -281,6 +291,7 @@ pub fn compare(reference: &Path, others: &[PathBuf]) -> Result<Comparison, Compa
         source: r.model.source.clone(),
         equations: r.model.equations,
         instabilities: r.instabilities.len(),
+        seconds_per_friction: median_seconds(&r),
     }];
     let mut instabilities = Vec::new();
     let mut extra = Vec::new();
@@ -293,6 +304,7 @@ pub fn compare(reference: &Path, others: &[PathBuf]) -> Result<Comparison, Compa
             source: o.model.source.clone(),
             equations: o.model.equations,
             instabilities: o.instabilities.len(),
+            seconds_per_friction: median_seconds(&o),
         });
         let shared: Vec<(usize, usize)> = r
             .points
@@ -416,15 +428,19 @@ impl Comparison {
     /// The tables of compare.md.
     pub fn markdown(&self) -> String {
         let mut s = String::from("# squeal compare\n\n## Models\n\n");
-        s.push_str("| | folder | model | equations | instabilities |\n|---|---|---|---|---|\n");
+        s.push_str(
+            "| | folder | model | equations | instabilities | time per mu (median) |\n\
+             |---|---|---|---|---|---|\n",
+        );
         for (k, m) in self.models.iter().enumerate() {
             s.push_str(&format!(
-                "| {} | `{}` | {} | {} | {} |\n",
+                "| {} | `{}` | {} | {} | {} | {:.1} s |\n",
                 if k == 0 { "reference" } else { "" },
                 m.folder,
                 m.source,
                 m.equations,
-                m.instabilities
+                m.instabilities,
+                m.seconds_per_friction
             ));
         }
         s.push_str(
