@@ -107,8 +107,10 @@ fn block_on_block(rt: &Runtime) -> Result<Vec<f64>, String> {
         [0.14, 0.10, 0.02],
         [7, 5, 1],
         steel("base"),
-    )?;
-    let top = block([0.0, 0.0, 0.0], [0.1, 0.06, 0.02], [6, 4, 1], steel("top"))?;
+    )
+    .map_err(|e| e.to_string())?;
+    let top = block([0.0, 0.0, 0.0], [0.1, 0.06, 0.02], [6, 4, 1], steel("top"))
+        .map_err(|e| e.to_string())?;
     let mesh = merge(&base, "base_", &top, "top_");
     let settings = PairSettings {
         name: "top/base".into(),

@@ -1107,7 +1107,7 @@ fn tet10_craig_bampton(rt: &Runtime) -> Result<Vec<f64>, String> {
         poisson: 0.3,
         density: 7850.0,
     };
-    let mesh = block([0.0; 3], [0.1, 0.04, 0.02], [3, 2, 1], steel)?;
+    let mesh = block([0.0; 3], [0.1, 0.04, 0.02], [3, 2, 1], steel).map_err(|e| e.to_string())?;
     let dofs = DofMap::new(mesh.nodes.len(), 0, &[], comm.size(), comm.rank())
         .map_err(|e| e.to_string())?;
     let pattern = assemble::pattern(&dofs, mesh.elements.iter().map(|c| &c[..]));

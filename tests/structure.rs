@@ -131,7 +131,7 @@ fn eigenvalues(rt: &Runtime, k: &Matrix, m: &Matrix, band: ModeBand) -> Result<V
 /// An unsupported block: the six rigid-body motions have zero energy and nothing else does.
 /// Exactly six eigenvalues are (numerically) zero, the seventh is the first elastic mode.
 fn free_free_block(rt: &Runtime) -> Result<Vec<f64>, String> {
-    let mesh = block([0.0; 3], [0.1, 0.04, 0.02], [6, 3, 2], steel())?;
+    let mesh = block([0.0; 3], [0.1, 0.04, 0.02], [6, 3, 2], steel()).map_err(|e| e.to_string())?;
     let (_, k, m) = structure(rt, &mesh, &[], MassRule::Exact)?;
     let f = frequencies(rt, &k, &m, ModeBand::Lowest { count: 10 })?;
     let rigid = f.iter().filter(|x| x.1).count();
@@ -168,7 +168,9 @@ fn mass_per_part(rt: &Runtime) -> Result<Vec<f64>, String> {
     let mesh = brake::build(&params).map_err(|e| e.to_string())?;
     let mut out = Vec::new();
     for part in &mesh.parts {
-        let sub = mesh.extract_parts(&[&part.name])?;
+        let sub = mesh
+            .extract_parts(&[&part.name])
+            .map_err(|e| e.to_string())?;
         let material = &mesh.materials[part.material.as_ref().ok_or("no material")?];
         let volume: f64 = sub
             .elements
@@ -235,7 +237,7 @@ fn cantilever_convergence(rt: &Runtime) -> Result<Vec<f64>, String> {
     let meshes = [[10, 2, 1], [20, 4, 2], [40, 8, 4]];
     let mut results: Vec<Vec<f64>> = Vec::new();
     for div in meshes {
-        let mesh = block([0.0; 3], [l, b, h], div, s.clone())?;
+        let mesh = block([0.0; 3], [l, b, h], div, s.clone()).map_err(|e| e.to_string())?;
         let clamp = Support {
             name: "x0".into(),
             nodes: mesh.node_sets["x0"].clone(),
@@ -315,7 +317,7 @@ fn free_free_bar_convergence(rt: &Runtime) -> Result<Vec<f64>, String> {
     let s = steel();
     let mut results: Vec<Vec<f64>> = Vec::new();
     for div in [[10, 2, 1], [20, 4, 2], [40, 8, 4]] {
-        let mesh = block([0.0; 3], [l, b, h], div, s.clone())?;
+        let mesh = block([0.0; 3], [l, b, h], div, s.clone()).map_err(|e| e.to_string())?;
         let (_, k, m) = structure(rt, &mesh, &[], MassRule::Exact)?;
         let f = frequencies(rt, &k, &m, ModeBand::Lowest { count: 8 })?;
         if f.iter().filter(|x| x.1).count() != 6 {
@@ -385,7 +387,7 @@ fn annular_plate(rt: &Runtime) -> Result<Vec<f64>, String> {
     params.pad_inner_radius = 0.10;
     params.pad_outer_radius = 0.13;
     let mesh = brake::build(&params).map_err(|e| e.to_string())?;
-    let disc = mesh.extract_parts(&["disc"])?;
+    let disc = mesh.extract_parts(&["disc"]).map_err(|e| e.to_string())?;
     let hub = Support {
         name: "disc_hub".into(),
         nodes: disc.node_sets["disc_hub"].clone(),

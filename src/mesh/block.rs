@@ -15,6 +15,14 @@ const NUMBERING: Numbering = Numbering {
     tets: TetOrder::Lexicographic,
 };
 
+/// Block dimensions that make no mesh.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("block needs positive lengths and divisions, got {lengths:?} and {divisions:?}")]
+pub struct BadBlock {
+    pub lengths: [f64; 3],
+    pub divisions: [usize; 3],
+}
+
 /// A block [0, lx] x [0, ly] x [0, lz] shifted by `origin`, with `divisions` cells per
 /// direction, in one part "block" of `material`. Node sets and surfaces `x0`, `x1`, `y0`,
 /// `y1`, `z0`, `z1` are its six faces.
@@ -23,11 +31,9 @@ pub fn block(
     lengths: [f64; 3],
     divisions: [usize; 3],
     material: Material,
-) -> Result<Mesh, String> {
+) -> Result<Mesh, BadBlock> {
     if divisions.contains(&0) || lengths.iter().any(|&l| !(l > 0.0 && l.is_finite())) {
-        return Err(format!(
-            "block needs positive lengths and divisions, got {lengths:?} and {divisions:?}"
-        ));
+        return Err(BadBlock { lengths, divisions });
     }
     let grid = Grid {
         lines: [0, 1, 2].map(|axis| {

@@ -138,11 +138,16 @@ impl Mesh {
     }
 }
 
+/// A part name the mesh does not have.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("no part named '{0}'")]
+pub struct NoSuchPart(pub String);
+
 impl Mesh {
     /// The sub-mesh made of the named parts: only their elements and the nodes those use,
     /// renumbered; node sets and surfaces keep what lies in it (empty ones are dropped).
     /// Errors name a part that does not exist.
-    pub fn extract_parts(&self, names: &[&str]) -> Result<Mesh, String> {
+    pub fn extract_parts(&self, names: &[&str]) -> Result<Mesh, NoSuchPart> {
         let mut keep_element = vec![false; self.elements.len()];
         let mut parts = Vec::new();
         for name in names {
@@ -150,7 +155,7 @@ impl Mesh {
                 .parts
                 .iter()
                 .find(|p| p.name == *name)
-                .ok_or_else(|| format!("no part named '{name}'"))?;
+                .ok_or_else(|| NoSuchPart(name.to_string()))?;
             for &e in &part.elements {
                 keep_element[e] = true;
             }
@@ -297,7 +302,11 @@ mod tests {
             a.surfaces["top"].faces[0].nodes.map(|n| a.nodes[n]),
             m.face(0, 2).nodes.map(|n| m.nodes[n])
         );
-        assert!(m.extract_parts(&["c"]).unwrap_err().contains("'c'"));
+        assert!(m
+            .extract_parts(&["c"])
+            .unwrap_err()
+            .to_string()
+            .contains("'c'"));
     }
 
     #[test]
