@@ -5,7 +5,7 @@ mod common;
 mod reference;
 
 use common::harness::Check;
-use squeal::analysis::modes::{real_modes, ModeBand, ModesOptions};
+use squeal::analysis::modes::{real_modes, ModeBand, ModesOptions, RealMode};
 use squeal::analysis::rigid;
 use squeal::fem::element::{self, MassRule};
 use squeal::fem::{assemble, DofMap, StructureOptions, Support};
@@ -90,42 +90,27 @@ fn structure<'rt>(
     Ok((dofs, k, m))
 }
 
+/// The real modes of (K, M) in a band.
+fn modes(rt: &Runtime, k: &Matrix, m: &Matrix, band: ModeBand) -> Result<Vec<RealMode>, String> {
+    let options = ModesOptions {
+        band,
+        ..Default::default()
+    };
+    let found = real_modes(rt.world(), k, m, &options).map_err(|e| e.to_string())?;
+    Ok(found.modes)
+}
+
+/// (frequency, rigid-body flag) of each mode.
 fn frequencies(
     rt: &Runtime,
     k: &Matrix,
     m: &Matrix,
     band: ModeBand,
 ) -> Result<Vec<(f64, bool)>, String> {
-    let modes = real_modes(
-        rt.world(),
-        k,
-        m,
-        &ModesOptions {
-            band,
-            ..Default::default()
-        },
-    )
-    .map_err(|e| e.to_string())?;
-    Ok(modes
-        .modes
+    Ok(modes(rt, k, m, band)?
         .iter()
         .map(|m| (m.frequency_hz, m.rigid_body))
         .collect())
-}
-
-/// omega^2 of each mode, in the order of `frequencies`.
-fn eigenvalues(rt: &Runtime, k: &Matrix, m: &Matrix, band: ModeBand) -> Result<Vec<f64>, String> {
-    let modes = real_modes(
-        rt.world(),
-        k,
-        m,
-        &ModesOptions {
-            band,
-            ..Default::default()
-        },
-    )
-    .map_err(|e| e.to_string())?;
-    Ok(modes.modes.iter().map(|m| m.eigenvalue).collect())
 }
 
 /// An unsupported block: the six rigid-body motions have zero energy and nothing else does.
@@ -133,7 +118,11 @@ fn eigenvalues(rt: &Runtime, k: &Matrix, m: &Matrix, band: ModeBand) -> Result<V
 fn free_free_block(rt: &Runtime) -> Result<Vec<f64>, String> {
     let mesh = block([0.0; 3], [0.1, 0.04, 0.02], [6, 3, 2], steel()).map_err(|e| e.to_string())?;
     let (_, k, m) = structure(rt, &mesh, &[], MassRule::Exact)?;
-    let f = frequencies(rt, &k, &m, ModeBand::Lowest { count: 10 })?;
+    let values = modes(rt, &k, &m, ModeBand::Lowest { count: 10 })?;
+    let f: Vec<(f64, bool)> = values
+        .iter()
+        .map(|m| (m.frequency_hz, m.rigid_body))
+        .collect();
     let rigid = f.iter().filter(|x| x.1).count();
     if rigid != 6 || f[..6].iter().any(|x| !x.1) || f[6].1 {
         return Err(format!("expected 6 rigid-body modes first, got {f:?}"));
@@ -149,9 +138,11 @@ fn free_free_block(rt: &Runtime) -> Result<Vec<f64>, String> {
     // The classification's margin: the rigid eigenvalues' round-off (either sign) must sit
     // well inside the round-off level that decides them, whatever the BLAS kernel (the
     // level is eps-scaled; 1e-3 of it is still ~1e3 times the scatter seen).
-    let values = eigenvalues(rt, &k, &m, ModeBand::Lowest { count: 10 })?;
     let level = rigid::roundoff_level(rt.world(), &k, &m).map_err(|e| e.to_string())?;
-    let worst = values[..6].iter().map(|v| v.abs()).fold(0.0, f64::max);
+    let worst = values[..6]
+        .iter()
+        .map(|v| v.eigenvalue.abs())
+        .fold(0.0, f64::max);
     if worst > 1e-3 * level {
         return Err(format!(
             "rigid-body eigenvalues up to {worst:e}: too close to the round-off level {level:e}"

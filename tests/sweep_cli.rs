@@ -58,9 +58,8 @@ fn cea_on_matrix_market_files_matches_the_closed_form() {
         );
         write_mtx(&dir.join("M.mtx"), &[(0, 0, 1.0), (1, 1, 1.0)]);
         let out = dir.join(format!("out{d}"));
-        let run = common::mpirun(
+        success(
             2,
-            squeal(),
             &[
                 "cea",
                 "--stiffness",
@@ -73,7 +72,6 @@ fn cea_on_matrix_market_files_matches_the_closed_form() {
                 out.to_str().unwrap(),
             ],
         );
-        assert!(run.status.success(), "{}", common::text(&run));
         let found = eigenvalues(&out);
         assert_eq!(found.len(), 2, "{found:?}");
         let disc = Complex64::new(1.0 - d, 0.0).sqrt();
@@ -98,9 +96,8 @@ fn cea_on_matrix_market_files_matches_the_closed_form() {
 #[test]
 fn sweep_of_the_builtin_brake_writes_a_complete_study() {
     let dir = scratch("sweep");
-    let run = common::mpirun(
+    let run = success(
         2,
-        squeal(),
         &[
             "sweep",
             "--preset",
@@ -113,7 +110,6 @@ fn sweep_of_the_builtin_brake_writes_a_complete_study() {
             dir.to_str().unwrap(),
         ],
     );
-    assert!(run.status.success(), "{}", common::text(&run));
     let stdout = String::from_utf8_lossy(&run.stdout);
     assert!(stdout.contains("instabilities"), "{stdout}");
     let json: serde_json::Value =
@@ -144,6 +140,13 @@ fn sweep_of_the_builtin_brake_writes_a_complete_study() {
     }
 }
 
+/// Runs squeal under mpirun and insists it succeeds.
+fn success(ranks: usize, args: &[&str]) -> std::process::Output {
+    let run = common::mpirun(ranks, squeal(), args);
+    assert!(run.status.success(), "{}", common::text(&run));
+    run
+}
+
 fn failure(args: &[&str]) -> String {
     let run = common::mpirun(2, squeal(), args);
     assert!(!common::hung(&run), "{}", common::text(&run));
@@ -159,9 +162,8 @@ fn bad_studies_name_the_file_and_the_key_and_write_nothing() {
     let out = dir.join("out");
     let study = dir.join("study.toml");
     let builtin = dir.join("builtin.toml");
-    let run = common::mpirun(
+    success(
         1,
-        squeal(),
         &[
             "sweep",
             "--preset",
@@ -170,7 +172,6 @@ fn bad_studies_name_the_file_and_the_key_and_write_nothing() {
             builtin.to_str().unwrap(),
         ],
     );
-    assert!(run.status.success(), "{}", common::text(&run));
     let text = std::fs::read_to_string(&builtin).unwrap();
     // A pair naming a surface that does not exist.
     std::fs::write(
@@ -248,9 +249,8 @@ fn unstable_markers(svg: &str) -> usize {
 fn stability_map_and_table_agree_for_a_non_default_threshold() {
     let dir = scratch("threshold");
     let study = dir.join("study.toml");
-    let run = common::mpirun(
+    success(
         1,
-        squeal(),
         &[
             "sweep",
             "--preset",
@@ -259,7 +259,6 @@ fn stability_map_and_table_agree_for_a_non_default_threshold() {
             study.to_str().unwrap(),
         ],
     );
-    assert!(run.status.success(), "{}", common::text(&run));
     let text = std::fs::read_to_string(&study).unwrap();
     let mut counts = Vec::new();
     for threshold in ["0.000001", "0.01"] {
@@ -272,9 +271,8 @@ fn stability_map_and_table_agree_for_a_non_default_threshold() {
         )
         .unwrap();
         let out = dir.join(format!("out-{threshold}"));
-        let run = common::mpirun(
+        let run = success(
             2,
-            squeal(),
             &[
                 "sweep",
                 study.to_str().unwrap(),
@@ -286,7 +284,6 @@ fn stability_map_and_table_agree_for_a_non_default_threshold() {
                 out.to_str().unwrap(),
             ],
         );
-        assert!(run.status.success(), "{}", common::text(&run));
         let json: serde_json::Value =
             serde_json::from_slice(&std::fs::read(out.join("sweep.json")).unwrap()).unwrap();
         let in_json = json["points"][0]["eigenvalues"]
@@ -341,9 +338,8 @@ fn bad_reductions_name_the_key_or_the_node_and_write_nothing() {
     );
     // A reduction with no swept pair to reduce.
     let study = dir.join("study.toml");
-    let run = common::mpirun(
+    success(
         1,
-        squeal(),
         &[
             "sweep",
             "--preset",
@@ -352,7 +348,6 @@ fn bad_reductions_name_the_key_or_the_node_and_write_nothing() {
             study.to_str().unwrap(),
         ],
     );
-    assert!(run.status.success(), "{}", common::text(&run));
     let text = std::fs::read_to_string(&study)
         .unwrap()
         .replace("sweep = true", "sweep = false");
@@ -395,17 +390,15 @@ fn compare_reads_sweep_folders_and_measures_the_reduced_model() {
             out.to_str().unwrap(),
         ];
         args.extend_from_slice(extra);
-        let run = common::mpirun(2, squeal(), &args);
-        assert!(run.status.success(), "{}", common::text(&run));
+        success(2, &args);
         assert!(out.join("mu_0.300/contact.json").is_file());
         out
     };
     let full = sweep("full", &[]);
     let reduced = sweep("reduced", &["--contact-nodes-per-pad", "22"]);
     let out = dir.join("cmp");
-    let run = common::mpirun(
+    success(
         2,
-        squeal(),
         &[
             "compare",
             full.to_str().unwrap(),
@@ -415,7 +408,6 @@ fn compare_reads_sweep_folders_and_measures_the_reduced_model() {
             out.to_str().unwrap(),
         ],
     );
-    assert!(run.status.success(), "{}", common::text(&run));
     let json: serde_json::Value =
         serde_json::from_slice(&std::fs::read(out.join("compare.json")).unwrap()).unwrap();
     let full_name = full.to_str().unwrap();
