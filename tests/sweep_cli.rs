@@ -415,6 +415,8 @@ fn compare_reads_sweep_folders_and_measures_the_reduced_model() {
         let max = i["max_error"].as_f64();
         if i["model"] == full_name {
             assert!(i["matched"].as_bool().unwrap() && max == Some(0.0), "{i}");
+            // The same shapes: MAC 1 to round-off.
+            assert!((i["mac"].as_f64().unwrap() - 1.0).abs() < 1e-12, "{i}");
         } else if (i["reference_frequency_hz"].as_f64().unwrap() - 5160.0).abs() < 100.0 {
             assert!(i["matched"].as_bool().unwrap(), "{i}");
             assert!(max.unwrap() < 0.02, "{i}");

@@ -12,8 +12,10 @@
 //! reference's largest real part. Instabilities one model has and the other has not are
 //! listed both ways. Errors are fractions (0.01 is 1 %).
 //!
-//! Pairing is by frequency only: the mode shapes are not in the sweep folders yet, so the
-//! complex MAC on shared mesh DOFs that would confirm a pairing is not computed.
+//! Among the other model's instabilities within [`MATCH_TOLERANCE`] in frequency, the one
+//! whose unstable mode shape is most alike (complex MAC on the pad surface nodes both models
+//! share, at the reference's mu of largest real part, from the folders' contact.json) is
+//! taken; without shapes, the nearest in frequency.
 
 use crate::study::report::write_atomically;
 use std::path::{Path, PathBuf};
@@ -70,6 +72,8 @@ struct InstabilityRecord {
     onset_mu: f64,
     max_real_part: f64,
     frequency_hz_at_max: f64,
+    #[serde(default)]
+    mu_at_max: f64,
 }
 
 #[derive(Clone, Debug, serde::Deserialize)]
@@ -124,6 +128,9 @@ pub struct InstabilityComparison {
     /// The other model's folder.
     pub model: String,
     pub matched: bool,
+    /// The complex MAC between the two instabilities' unstable mode shapes on the pad
+    /// surface nodes, at the reference's largest real part (when both folders hold shapes).
+    pub mac: Option<f64>,
     /// The other model's instability: its frequency and onset.
     pub model_frequency_hz: Option<f64>,
     pub model_onset_mu: Option<f64>,
@@ -199,6 +206,52 @@ pub struct Comparison {
 fn read_contact(dir: &Path, mu: f64) -> Option<crate::study::sweep::ContactMap> {
     let file = dir.join(format!("mu_{mu:.3}")).join("contact.json");
     serde_json::from_slice(&std::fs::read(file).ok()?).ok()
+}
+
+/// The complex MAC |a^H b|^2 / (|a|^2 |b|^2) of two instabilities' unstable shapes at the
+/// reference's mu of largest real part, on the pad surface nodes both models give.
+fn instability_mac(
+    reference: &Path,
+    ri: &InstabilityRecord,
+    other: &Path,
+    oi: &InstabilityRecord,
+) -> Option<f64> {
+    let mu = ri.mu_at_max;
+    let (a, b) = (read_contact(reference, mu)?, read_contact(other, mu)?);
+    let nearest = |m: &crate::study::sweep::ContactMap, f: f64| {
+        m.unstable_shapes
+            .iter()
+            .min_by(|x, y| {
+                (x.frequency_hz - f)
+                    .abs()
+                    .total_cmp(&(y.frequency_hz - f).abs())
+            })
+            .cloned()
+    };
+    let (sa, sb) = (
+        nearest(&a, ri.frequency_hz_at_max)?,
+        nearest(&b, oi.frequency_hz_at_max)?,
+    );
+    let index: std::collections::BTreeMap<usize, usize> = b
+        .shape_nodes
+        .iter()
+        .enumerate()
+        .map(|(k, &n)| (n, k))
+        .collect();
+    let (mut dot_re, mut dot_im, mut na, mut nb) = (0.0, 0.0, 0.0, 0.0);
+    for (ka, node) in a.shape_nodes.iter().enumerate() {
+        let Some(&kb) = index.get(node) else { continue };
+        for c in 0..3 {
+            let (ar, ai) = (sa.re[ka][c], sa.im[ka][c]);
+            let (br, bi) = (sb.re[kb][c], sb.im[kb][c]);
+            // conj(a) b
+            dot_re += ar * br + ai * bi;
+            dot_im += ar * bi - ai * br;
+            na += ar * ar + ai * ai;
+            nb += br * br + bi * bi;
+        }
+    }
+    (na > 0.0 && nb > 0.0).then(|| (dot_re * dot_re + dot_im * dot_im) / (na * nb))
 }
 
 fn compare_statics(reference: &Path, other: &Path, mu: f64) -> Option<StaticComparison> {
@@ -324,20 +377,34 @@ pub fn compare(reference: &Path, others: &[PathBuf]) -> Result<Comparison, Compa
         let mut used = vec![false; o.instabilities.len()];
         for ri in &r.instabilities {
             let f_ref = ri.frequency_hz_at_max;
-            let best = o
+            // Candidates near in frequency; among them the most alike in shape when both
+            // folders hold the shapes, else the nearest in frequency.
+            let candidates: Vec<(usize, f64, Option<f64>)> = o
                 .instabilities
                 .iter()
                 .enumerate()
                 .filter(|(n, _)| !used[*n])
                 .map(|(n, oi)| (n, relative(oi.frequency_hz_at_max, f_ref)))
                 .filter(|&(_, d)| d < MATCH_TOLERANCE)
-                .min_by(|a, b| a.1.total_cmp(&b.1));
+                .map(|(n, d)| {
+                    let oi = &o.instabilities[n];
+                    (n, d, instability_mac(reference, ri, dir, oi))
+                })
+                .collect();
+            let best = candidates
+                .iter()
+                .max_by(|a, b| match (a.2, b.2) {
+                    (Some(x), Some(y)) => x.total_cmp(&y),
+                    _ => b.1.total_cmp(&a.1),
+                })
+                .map(|&(n, d, mac)| (n, d, mac));
             let mut entry = InstabilityComparison {
                 reference_frequency_hz: f_ref,
                 reference_onset_mu: ri.onset_mu,
                 reference_max_real_part: ri.max_real_part,
                 model: name.clone(),
                 matched: best.is_some(),
+                mac: best.and_then(|b| b.2),
                 model_frequency_hz: None,
                 model_onset_mu: None,
                 mean_error: None,
@@ -351,7 +418,7 @@ pub fn compare(reference: &Path, others: &[PathBuf]) -> Result<Comparison, Compa
                     .count(),
                 curves: curves(&r, ri, "reference", &shared, false),
             };
-            if let Some((n, _)) = best {
+            if let Some((n, _, _)) = best {
                 used[n] = true;
                 let oi = &o.instabilities[n];
                 let label = dir
@@ -445,16 +512,17 @@ impl Comparison {
         }
         s.push_str(
             "\n## Frequency errors per instability (eqs. 12-14; fractions shown as %)\n\n\
-             | reference instability | model | found | model frequency | mean | min | max | real part max |\n\
-             |---|---|---|---|---|---|---|---|\n",
+             | reference instability | model | found | MAC | model frequency | mean | min | max | real part max |\n\
+             |---|---|---|---|---|---|---|---|---|\n",
         );
         for i in &self.instabilities {
             s.push_str(&format!(
-                "| {:.1} Hz (onset mu {:.2}) | `{}` | {} | {} | {} | {} | {} | {} |\n",
+                "| {:.1} Hz (onset mu {:.2}) | `{}` | {} | {} | {} | {} | {} | {} | {} |\n",
                 i.reference_frequency_hz,
                 i.reference_onset_mu,
                 i.model,
                 if i.matched { "yes" } else { "**missed**" },
+                i.mac.map_or("-".into(), |m| format!("{m:.3}")),
                 i.model_frequency_hz
                     .map_or("-".into(), |f| format!("{f:.1} Hz")),
                 percent(i.mean_error),

@@ -5,7 +5,7 @@
 use super::output::{ModelInfo, PairReport, SweepPointReport};
 use super::{
     ContactMap, ContactMapPoint, FrictionModel, PointFields, PointOutcome, SurfacePressure,
-    UnstableShape,
+    SurfaceShape, UnstableShape,
 };
 use crate::analysis::cea::{self, CeaOptions, RayleighDamping};
 use crate::analysis::restraint::{self, Body};
@@ -387,6 +387,23 @@ impl FullModel<'_> {
                 tracing::warn!("von Mises stress not computed: {e}");
                 vec![0.0; n]
             });
+        let mut nodes: Vec<usize> = self
+            .spread
+            .iter()
+            .flat_map(|swept| swept.areas.keys().copied())
+            .collect();
+        nodes.sort_unstable();
+        nodes.dedup();
+        map.unstable_shapes = unstable
+            .iter()
+            .map(|shape| SurfaceShape {
+                frequency_hz: shape.mode.frequency_hz,
+                real_part: shape.mode.real_part,
+                re: nodes.iter().map(|&n| shape.re[n]).collect(),
+                im: nodes.iter().map(|&n| shape.im[n]).collect(),
+            })
+            .collect();
+        map.shape_nodes = nodes;
         PointFields {
             contact: map,
             von_mises,

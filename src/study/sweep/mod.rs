@@ -56,12 +56,28 @@ pub struct SurfacePressure {
     pub pressure: f64,
 }
 
+/// An unstable mode's shape on the swept pairs' pad surface nodes: what two models of the
+/// same mesh share, so `squeal compare` can pair their instabilities by the complex MAC.
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+pub struct SurfaceShape {
+    pub frequency_hz: f64,
+    pub real_part: f64,
+    /// Real and imaginary parts, (x, y, z) per node of [`ContactMap::shape_nodes`].
+    pub re: Vec<[f64; 3]>,
+    pub im: Vec<[f64; 3]>,
+}
+
 /// The static contact state of a point (contact.json): every swept pair's contact points,
-/// and the pressure on their pad surfaces.
+/// the pressure on their pad surfaces, and the unstable modes' shapes there.
 #[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct ContactMap {
     pub points: Vec<ContactMapPoint>,
     pub surface: Vec<SurfacePressure>,
+    /// The pad surface nodes (sorted) the shapes are given on.
+    #[serde(default)]
+    pub shape_nodes: Vec<usize>,
+    #[serde(default)]
+    pub unstable_shapes: Vec<SurfaceShape>,
 }
 
 /// Fields on the mesh nodes for a point's VTU file.
