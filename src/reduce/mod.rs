@@ -13,6 +13,7 @@
 //!   triangle (Table 2) and the whole-grid optimum ([`radius_table`]).
 
 pub mod coupling;
+pub mod craig_bampton;
 mod error;
 pub mod grid;
 pub mod interface;
@@ -22,6 +23,7 @@ pub mod superelement;
 pub use coupling::{
     couple_grid, distributing_coupling, CouplingNode, DistributingCoupling, Weighting,
 };
+pub use craig_bampton::{build_superelement, build_with_basis, CraigBampton, SuperElementError};
 pub use error::ReduceError;
 pub use grid::{isometric_grid, ContactGrid, GridSize, MeanPlane, ReducedNode};
 pub use interface::{
