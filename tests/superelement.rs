@@ -14,7 +14,8 @@ use squeal::fem::element::MassRule;
 use squeal::model::{self, Model, Operators};
 use squeal::petsc::{DenseMatrix, Runtime};
 use squeal::reduce::{
-    build_with_basis, reduce_interface, CraigBampton, GridSize, InterfaceSettings, ReducedInterface,
+    build_with_basis, reduce_interface, CraigBampton, GridSize, InterfaceSettings,
+    ReducedInterface, SuperElementError,
 };
 use squeal::study::config::Study;
 use std::f64::consts::PI;
@@ -23,6 +24,12 @@ const CHECKS: &[Check] = &[
     Check {
         name: "superelement_reproduces_its_equilibrium",
         run: equilibrium,
+        ranks: &[1, 2],
+        agreement: 1e-8,
+    },
+    Check {
+        name: "superelement_with_a_kept_frictional_pair_reproduces_its_equilibrium",
+        run: equilibrium_kept_pair,
         ranks: &[1, 2],
         agreement: 1e-8,
     },
@@ -98,7 +105,9 @@ fn build<'rt>(s: &Setup<'rt>, rt: &'rt Runtime, cutoff: f64) -> Result<CraigBamp
     if rt.world().rank() == 0 {
         let h = &cb.superelement.header;
         eprintln!(
-            "cut-off {cutoff} Hz: {} boundary pairs, {} modes, size {}, built in {:.2} s",
+            "cut-off {cutoff} Hz: {} equations, {} boundary pairs, {} modes, size {}, built \
+             in {:.2} s",
+            s.operators.dofs.equations(),
             h.boundary.len(),
             h.modes,
             h.size,
@@ -163,11 +172,28 @@ fn norm(v: &[f64]) -> f64 {
 /// the swept contact force on each boundary node (the rest of K u_s - F is the statics'
 /// residual): p (n + mu t) on c_k and its opposite on d_k, from the header's own data.
 fn equilibrium(rt: &Runtime) -> Result<Vec<f64>, String> {
+    equilibrium_case(rt, false)
+}
+
+/// (b) with only the first pad's pair swept: the other pad's reduced contact is kept,
+/// linearised with its friction (K_t unsymmetric: the LU and the symmetrised modes' path),
+/// and T^T (K_t u_s - F) is then the first pad's contact forces alone.
+fn equilibrium_kept_pair(rt: &Runtime) -> Result<Vec<f64>, String> {
+    equilibrium_case(rt, true)
+}
+
+fn equilibrium_case(rt: &Runtime, keep_second: bool) -> Result<Vec<f64>, String> {
     let comm = rt.world();
     faer::set_global_parallelism(faer::Par::Seq);
-    let s = setup(rt)?;
+    let mut s = setup(rt)?;
+    if keep_second {
+        s.swept.truncate(1);
+    }
     let cb = build(&s, rt, 8000.0)?;
     let se = &cb.superelement;
+    if !keep_second {
+        refuses_bad_input(rt, &s)?;
+    }
     let q = &se.equilibrium;
     let n_b = se.boundary_size();
 
@@ -182,8 +208,28 @@ fn equilibrium(rt: &Runtime) -> Result<Vec<f64>, String> {
     let alpha = q[q.len() - 1];
     let eta = norm(&q[n_b..q.len() - 1]);
 
-    // K u_s - F, projected.
-    let k = &s.operators.stiffness;
+    // K_t u_s - F, projected (K_t: K with the kept pairs' tangent; K itself when none).
+    let kept: Vec<_> = s
+        .reduced
+        .model
+        .pairs
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| !s.swept.contains(i))
+        .map(|(_, p)| p.clone())
+        .collect();
+    if keep_second && (kept.len() != 1 || se.header.other_contacts.len() != 1) {
+        return Err(format!("{} kept pairs", kept.len()));
+    }
+    let k_t = statics::tangent(
+        comm,
+        &s.operators.stiffness,
+        &s.operators.dofs,
+        &kept,
+        &s.displacement,
+    )
+    .map_err(e)?;
+    let k = &k_t;
     let (mut x, mut ku) = k.vectors().map_err(e)?;
     {
         let (lo, _) = x.ownership_range().map_err(e)?;
@@ -287,6 +333,36 @@ fn equilibrium(rt: &Runtime) -> Result<Vec<f64>, String> {
     out.push(alpha);
     out.push(total_normal / s.reduced.model.applied_load());
     Ok(out)
+}
+
+/// Typed errors for what the caller got wrong (decided before any collective call).
+fn refuses_bad_input(rt: &Runtime, s: &Setup) -> Result<(), String> {
+    let try_build = |swept: &[usize], cutoff: f64| {
+        build_with_basis(
+            rt.world(),
+            &s.reduced,
+            &s.operators,
+            &s.displacement,
+            swept,
+            FRICTION,
+            cutoff,
+        )
+        .err()
+    };
+    let pairs = s.reduced.model.pairs.len();
+    match try_build(&[pairs], 8000.0) {
+        Some(SuperElementError::PairIndex { index, .. }) if index == pairs => {}
+        other => return Err(format!("pair out of range: {other:?}")),
+    }
+    match try_build(&[], 8000.0) {
+        Some(SuperElementError::NoSweptPair) => {}
+        other => return Err(format!("nothing swept: {other:?}")),
+    }
+    match try_build(&s.swept, -1.0) {
+        Some(SuperElementError::Cutoff(_)) => {}
+        other => return Err(format!("negative cut-off: {other:?}")),
+    }
+    Ok(())
 }
 
 /// (a) The super-element's eigenvalues below half the lowest cut-off match the real modes of
