@@ -326,6 +326,15 @@ impl<'rt> Matrix<'rt> {
         Ok(Matrix::from_raw(raw))
     }
 
+    /// A new matrix holding self^T (collective; MatTranspose with MAT_INITIAL_MATRIX), e.g.
+    /// for the symmetric part (A + A^T) / 2 of an unsymmetric tangent.
+    pub fn transpose(&self) -> Result<Matrix<'rt>> {
+        let mut raw = std::ptr::null_mut();
+        // SAFETY: live matrix; out-pointer to a local.
+        check(unsafe { sys::MatTranspose(self.raw, sys::MAT_INITIAL_MATRIX, &mut raw) })?;
+        Ok(Matrix::from_raw(raw))
+    }
+
     /// self * t for a dense block t whose rows are laid out like self's columns (collective;
     /// MatMatMult). `t`'s communicator must be the one self lives on.
     pub fn mult_dense(&self, t: &DenseMatrix<'rt>) -> Result<DenseMatrix<'rt>> {

@@ -9,10 +9,14 @@
 //!   the radius of influence ([`distributing_coupling`], [`Weighting`]), forces only.
 //! - [`interface`]: the reduced-interface model, the full model with its swept pairs
 //!   replaced by node-to-node contacts between reduced contact nodes ([`reduce_interface`]).
+//! - [`superelement`]: the Craig-Bampton super-element as plain data (the contract with the
+//!   dense assembly); [`craig_bampton`] builds one from a reduced-interface model at a static
+//!   equilibrium ([`build_superelement`], [`build_with_basis`] to keep T for expansions).
 //! - [`radius`]: the optimal radius of influence per weighting degree, the paper's elementary
 //!   triangle (Table 2) and the whole-grid optimum ([`radius_table`]).
 
 pub mod coupling;
+pub mod craig_bampton;
 mod error;
 pub mod grid;
 pub mod interface;
@@ -22,6 +26,7 @@ pub mod superelement;
 pub use coupling::{
     couple_grid, distributing_coupling, CouplingNode, DistributingCoupling, Weighting,
 };
+pub use craig_bampton::{build_superelement, build_with_basis, CraigBampton, SuperElementError};
 pub use error::ReduceError;
 pub use grid::{isometric_grid, ContactGrid, GridSize, MeanPlane, ReducedNode};
 pub use interface::{

@@ -1,0 +1,430 @@
+//! Builds a [`SuperElement`] (METHOD.md section 6; the paper's section 3.2.1) from a
+//! reduced-interface model at a static equilibrium: the Craig-Bampton reduction onto the
+//! reduced contact nodes, with the swept contact removed and every other contact linearised.
+//!
+//! - K_t = K + dF_c/dU of every non-swept pair at the equilibrium (supports are already out
+//!   of the DOF map).
+//! - Boundary B: the equations of c_k then d_k of every swept pair's points, in the order of
+//!   [`super::superelement`]; interior I: every other equation.
+//! - One LU of K_II (MUMPS) and one block solve for all of [-K_IB | F_I]: the constraint
+//!   modes Psi = -K_II^-1 K_IB and the load's static correction r = K_II^-1 F_I.
+//! - Fixed-interface modes Phi of (sym(K_II), M_II) below the cut-off, mass-normalised, by
+//!   spectrum slicing ([`crate::analysis::modes::real_modes`]).
+//! - T = [[I, 0, 0], [Psi, Phi, r]] in the model's equation order, distributed like K;
+//!   K_r = T^T K_t T, M_r = T^T M T, load T^T F.
+//! - q_s: u_B read off the equilibrium; (eta, alpha) the M_II-weighted least-squares fit of
+//!   u_I - Psi u_B by Phi eta + alpha r.
+//!
+//! Why q_s is exact. The equilibrium satisfies, on the interior rows,
+//! K_II u_I + K_IB u_B + F_c,I(u) = F_I. The swept pairs act on B only (their points tie c_k
+//! to d_k, both boundary nodes), so F_c,I comes from the kept pairs alone. When there are
+//! none (the built-in brake), or their closed points have no initial-gap offset (then
+//! F_c = J_c u, which is in K_t), this is K_t,II u_I + K_t,IB u_B = F_I, i.e.
+//! u_I = Psi u_B + K_II^-1 F_I = Psi u_B + r: the fit returns eta = 0, alpha = 1 and
+//! T q_s = u to the round-off of the solves and of the static residual. A kept pair with an
+//! initial gap adds K_II^-1 f0_I, which T does not hold; the fit's M-norm residual is
+//! logged so that it can be seen.
+
+use super::interface::ReducedInterface;
+use super::superelement::{BoundaryPair, SuperElement, SuperElementHeader};
+use crate::analysis::modes::{self, ModeBand, ModesError, ModesOptions};
+use crate::analysis::statics::{self, StaticsError};
+use crate::contact::{self, ContactError, ContactPair};
+use crate::model::Operators;
+use crate::petsc::{
+    Comm, DenseMatrix, DirectPackage, FactoredMatrix, Factorization, IndexSet, PetscError,
+    Structure,
+};
+use faer::linalg::solvers::Solve;
+use faer::Mat;
+
+/// Why a super-element could not be built.
+#[derive(Debug, thiserror::Error)]
+pub enum SuperElementError {
+    #[error("pair index {index} is out of range: the model has {pairs} contact pairs")]
+    PairIndex { index: usize, pairs: usize },
+    #[error("no swept pair given: a super-element needs a reduced interface to keep")]
+    NoSweptPair,
+    #[error("contact pair '{pair}' was not reduced (it is no pad of the reduced interface)")]
+    NotReduced { pair: String },
+    #[error("contact pair '{pair}', point {point}: not the node-to-node contact c_k/d_k of its reduced pad")]
+    NotReducedPoint { pair: String, point: usize },
+    #[error("node {node} of the reduced interface has a supported component: a reduced contact node must be free")]
+    SupportedBoundary { node: usize },
+    #[error("the equilibrium has {given} nodes, the model {expected}")]
+    EquilibriumSize { given: usize, expected: usize },
+    #[error("the cut-off frequency must be positive and finite, got {0}")]
+    Cutoff(f64),
+    #[error("the swept pairs' friction must be finite and non-negative, got {0}")]
+    Friction(f64),
+    #[error("the equilibrium coordinates' normal equations are singular ({0})")]
+    Fit(String),
+    #[error("tangent of the kept contacts: {0}")]
+    Statics(#[from] StaticsError),
+    #[error("fixed-interface modes: {0}")]
+    Modes(#[from] ModesError),
+    #[error(transparent)]
+    Contact(#[from] ContactError),
+    #[error(transparent)]
+    Petsc(#[from] PetscError),
+}
+
+/// The boundary in super-element order: for each swept pair's point, (pair, point, c, d).
+struct Boundary {
+    points: Vec<(usize, usize, usize, usize)>,
+    /// The equations in super-element order (6 per point).
+    equations: Vec<usize>,
+}
+
+fn boundary(
+    reduced: &ReducedInterface,
+    operators: &Operators,
+    swept: &[usize],
+) -> Result<Boundary, SuperElementError> {
+    let model = &reduced.model;
+    let pairs = model.pairs.len();
+    if swept.is_empty() {
+        return Err(SuperElementError::NoSweptPair);
+    }
+    if let Some(&index) = swept.iter().find(|&&i| i >= pairs) {
+        return Err(SuperElementError::PairIndex { index, pairs });
+    }
+    for &i in swept {
+        let name = &model.pairs[i].settings.name;
+        if !reduced.pads.iter().any(|p| &p.pair == name) {
+            return Err(SuperElementError::NotReduced { pair: name.clone() });
+        }
+    }
+    let mut points = Vec::new();
+    // Pads in order, nodes in grid order (the pads' order is the model's pair order).
+    for pad in &reduced.pads {
+        let Some(&i) = swept
+            .iter()
+            .find(|&&i| model.pairs[i].settings.name == pad.pair)
+        else {
+            continue;
+        };
+        let pair = &model.pairs[i];
+        if pair.points.len() != pad.contact_nodes.len() {
+            return Err(SuperElementError::NotReducedPoint {
+                pair: pad.pair.clone(),
+                point: pair.points.len().min(pad.contact_nodes.len()),
+            });
+        }
+        for (k, point) in pair.points.iter().enumerate() {
+            let (c, d) = (pad.contact_nodes[k], pad.disc_nodes[k]);
+            if point.slave != [(c, 1.0)] || point.master != [(d, 1.0)] {
+                return Err(SuperElementError::NotReducedPoint {
+                    pair: pad.pair.clone(),
+                    point: k,
+                });
+            }
+            points.push((i, k, c, d));
+        }
+    }
+    let dofs = &operators.dofs;
+    let mut equations = Vec::with_capacity(6 * points.len());
+    for &(_, _, c, d) in &points {
+        for node in [c, d] {
+            for component in 0..3 {
+                equations.push(
+                    dofs.equation(node, component)
+                        .ok_or(SuperElementError::SupportedBoundary { node })?,
+                );
+            }
+        }
+    }
+    Ok(Boundary { points, equations })
+}
+
+/// A super-element with its basis T (rows laid out like K's, columns in the order of
+/// [`super::superelement`]): u = T q expands reduced coordinates to the model's equations.
+pub struct CraigBampton<'rt> {
+    pub superelement: SuperElement,
+    pub basis: DenseMatrix<'rt>,
+}
+
+/// [`build_superelement`], keeping the basis T. Collective.
+pub fn build_with_basis<'rt>(
+    comm: Comm<'rt>,
+    reduced: &ReducedInterface,
+    operators: &Operators<'rt>,
+    equilibrium: &[[f64; 3]],
+    swept: &[usize],
+    friction: f64,
+    cutoff_hz: f64,
+) -> Result<CraigBampton<'rt>, SuperElementError> {
+    build(
+        comm,
+        reduced,
+        operators,
+        equilibrium,
+        swept,
+        friction,
+        cutoff_hz,
+    )
+}
+
+/// Builds the super-element of `reduced` at `equilibrium` (displacements of every node, mesh
+/// and extra), with the contact of the pairs `swept` (indices into the model's pairs, each a
+/// pad of `reduced`) removed and every other pair linearised there; fixed-interface modes up
+/// to `cutoff_hz`; `friction` is the swept pairs' mu it was made at (for the header).
+/// Collective; errors are collective.
+pub fn build_superelement<'rt>(
+    comm: Comm<'rt>,
+    reduced: &ReducedInterface,
+    operators: &Operators<'rt>,
+    equilibrium: &[[f64; 3]],
+    swept: &[usize],
+    friction: f64,
+    cutoff_hz: f64,
+) -> Result<SuperElement, SuperElementError> {
+    build(
+        comm,
+        reduced,
+        operators,
+        equilibrium,
+        swept,
+        friction,
+        cutoff_hz,
+    )
+    .map(|b| b.superelement)
+}
+
+fn build<'rt>(
+    comm: Comm<'rt>,
+    reduced: &ReducedInterface,
+    operators: &Operators<'rt>,
+    equilibrium: &[[f64; 3]],
+    swept: &[usize],
+    friction: f64,
+    cutoff_hz: f64,
+) -> Result<CraigBampton<'rt>, SuperElementError> {
+    let model = &reduced.model;
+    if !(cutoff_hz.is_finite() && cutoff_hz > 0.0) {
+        return Err(SuperElementError::Cutoff(cutoff_hz));
+    }
+    if !(friction.is_finite() && friction >= 0.0) {
+        return Err(SuperElementError::Friction(friction));
+    }
+    if equilibrium.len() != model.node_count() {
+        return Err(SuperElementError::EquilibriumSize {
+            given: equilibrium.len(),
+            expected: model.node_count(),
+        });
+    }
+    let boundary = boundary(reduced, operators, swept)?;
+    let dofs = &operators.dofs;
+    let kept: Vec<ContactPair> = model
+        .pairs
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| !swept.contains(i))
+        .map(|(_, p)| p.clone())
+        .collect();
+
+    // 1. K_t: the kept contacts' tangent on a copy of K.
+    let mut k_t = operators.stiffness.duplicate()?;
+    if !kept.is_empty() {
+        statics::add_contact_tangent(comm, &mut k_t, dofs, &kept, equilibrium, 1.0)?;
+    }
+    // Only friction of a kept pair makes K_t unsymmetric (decided from the data, the same on
+    // every rank, rather than by a tolerance on the entries).
+    let symmetric = kept.iter().all(|p| p.settings.friction == 0.0);
+
+    // 2. Boundary and interior index sets (sorted for PETSc; `column` maps a sorted position
+    // to the super-element's column).
+    let n_b = boundary.equations.len();
+    let mut order: Vec<usize> = (0..n_b).collect();
+    order.sort_by_key(|&j| boundary.equations[j]);
+    let sorted: Vec<usize> = order.iter().map(|&j| boundary.equations[j]).collect();
+    let column = order;
+    let (lo, hi) = k_t.ownership_range()?;
+    let b_set = IndexSet::owned_subset(comm, lo..hi, &sorted)?;
+    let i_set = b_set.complement(lo..hi)?;
+    let k_ii = k_t.submatrix(&i_set, &i_set)?;
+    let k_ib = k_t.submatrix(&i_set, &b_set)?;
+    let mut m_ii = operators.mass.submatrix(&i_set, &i_set)?;
+    m_ii.mark_symmetric()?;
+    let interior = i_set.indices()?;
+
+    // 3. One LU, one block solve for [-K_IB | F_I] -> [Psi | r].
+    let load = operators.load.gather_all()?;
+    let k_ib_local = DenseMatrix::from_sparse(comm, &k_ib)?.local_values()?;
+    let mut rhs = DenseMatrix::zeros(comm, interior.len(), n_b + 1)?;
+    rhs.write_local(|i, j| {
+        if j < n_b {
+            -k_ib_local[(i, j)]
+        } else {
+            load[interior[i]]
+        }
+    })?;
+    let factored = FactoredMatrix::new(comm, &k_ii, DirectPackage::Mumps, Factorization::Lu)?;
+    let solved = factored.solve_block(&rhs)?.local_values()?;
+    drop(factored);
+
+    let mut k_sym = if symmetric {
+        k_ii
+    } else {
+        let mut s = k_ii.transpose()?;
+        s.add(1.0, &k_ii, Structure::Different)?;
+        s.scale(0.5)?;
+        s
+    };
+    k_sym.mark_symmetric()?;
+    let found = modes::real_modes(
+        comm,
+        &k_sym,
+        &m_ii,
+        &ModesOptions {
+            band: ModeBand::Below {
+                max_frequency_hz: cutoff_hz,
+            },
+            ..Default::default()
+        },
+    )?;
+    let n_m = found.shapes.len();
+    let shapes: Vec<Vec<f64>> = found
+        .shapes
+        .iter()
+        .map(|v| Ok(v.read()?.to_vec()))
+        .collect::<Result<_, PetscError>>()?;
+    tracing::info!(
+        "super-element: {n_b} boundary equations, {} interior, {n_m} fixed-interface modes below {cutoff_hz} Hz",
+        k_t.size()?.0 - n_b
+    );
+
+    // T in the model's equation order, this rank's rows.
+    let size = n_b + n_m + 1;
+    let local_boundary: Vec<(usize, usize)> = sorted
+        .iter()
+        .enumerate()
+        .filter(|(_, &g)| (lo..hi).contains(&g))
+        .map(|(s, &g)| (g, column[s]))
+        .collect();
+    let mut t_local = Mat::<f64>::zeros(hi - lo, size);
+    for (p, &g) in interior.iter().enumerate() {
+        for s in 0..n_b {
+            t_local[(g - lo, column[s])] = solved[(p, s)];
+        }
+        for (m, shape) in shapes.iter().enumerate() {
+            t_local[(g - lo, n_b + m)] = shape[p];
+        }
+        t_local[(g - lo, size - 1)] = solved[(p, n_b)];
+    }
+    for &(g, j) in &local_boundary {
+        t_local[(g - lo, j)] = 1.0;
+    }
+    let mut t = DenseMatrix::zeros(comm, hi - lo, size)?;
+    t.write_local(|i, j| t_local[(i, j)])?;
+
+    // 4. Projections.
+    let stiffness = k_t.project(&t)?;
+    let mass = operators.mass.project(&t)?;
+    let f = DenseMatrix::from_columns(comm, &[operators.load.copy()?])?;
+    let projected_load = t.transpose_mult(&f)?;
+    let load_r: Vec<f64> = (0..size).map(|i| projected_load[(i, 0)]).collect();
+
+    // q_s: boundary from the equilibrium; (eta, alpha) fitting w = u_I - Psi u_B in the
+    // M_II norm: C = [Phi r], (C^T M_II C) x = C^T M_II w.
+    let u_all = {
+        let mut u = vec![0.0; dofs.equations()];
+        for (node, d) in equilibrium.iter().enumerate() {
+            for (c, &v) in d.iter().enumerate() {
+                if let Some(eq) = dofs.equation(node, c) {
+                    u[eq] = v;
+                }
+            }
+        }
+        u
+    };
+    let u_b: Vec<f64> = boundary.equations.iter().map(|&g| u_all[g]).collect();
+    let mut fit = DenseMatrix::zeros(comm, interior.len(), n_m + 2)?;
+    fit.write_local(|p, j| {
+        if j < n_m {
+            shapes[j][p]
+        } else if j == n_m {
+            solved[(p, n_b)]
+        } else {
+            let psi_u: f64 = (0..n_b).map(|s| solved[(p, s)] * u_b[column[s]]).sum();
+            u_all[interior[p]] - psi_u
+        }
+    })?;
+    let m_fit = m_ii.mult_dense(&fit)?;
+    let gram = fit.transpose_mult(&m_fit)?;
+    let n_c = n_m + 1;
+    let g = Mat::<f64>::from_fn(n_c, n_c, |i, j| gram[(i, j)]);
+    let b = Mat::<f64>::from_fn(n_c, 1, |i, _| gram[(i, n_c)]);
+    let x = g
+        .llt(faer::Side::Lower)
+        .map_err(|e| SuperElementError::Fit(format!("{e:?}")))?
+        .solve(&b);
+    // |w - C x|_M^2 = w^T M w - 2 x^T b + x^T G x.
+    let mut residual = gram[(n_c, n_c)];
+    for i in 0..n_c {
+        residual -= 2.0 * x[(i, 0)] * b[(i, 0)];
+        for j in 0..n_c {
+            residual += x[(i, 0)] * g[(i, j)] * x[(j, 0)];
+        }
+    }
+    tracing::info!(
+        "super-element equilibrium fit: alpha = {:.15}, M-norm residual {:.3e} of {:.3e}",
+        x[(n_m, 0)],
+        residual.max(0.0).sqrt(),
+        gram[(n_c, n_c)].max(0.0).sqrt()
+    );
+    let mut q_s = u_b;
+    q_s.extend((0..n_c).map(|i| x[(i, 0)]));
+
+    // 5. The header.
+    let mut pairs_out = Vec::with_capacity(boundary.points.len());
+    for &(i, k, c, d) in &boundary.points {
+        let pair = &model.pairs[i];
+        let point = &pair.points[k];
+        let state = contact::point_state(pair, point, equilibrium)?;
+        pairs_out.push(BoundaryPair {
+            pair: pair.settings.name.clone(),
+            pad_position: model.position(c),
+            disc_position: model.position(d),
+            normal: point.normal,
+            sliding: point.tangent,
+            initial_gap: point.initial_gap,
+            area: point.area,
+            penalty: pair.penalty,
+            separation: pair.settings.separation,
+            normal_force: state.normal_force,
+        });
+    }
+    let other_contacts = kept
+        .iter()
+        .map(|pair| {
+            let closed = pair
+                .points
+                .iter()
+                .map(|pt| contact::point_state(pair, pt, equilibrium).map(|s| s.closed))
+                .collect::<Result<Vec<_>, _>>()?;
+            Ok((pair.settings.name.clone(), closed))
+        })
+        .collect::<Result<Vec<_>, ContactError>>()?;
+    let superelement = SuperElement {
+        header: SuperElementHeader {
+            units: "SI".into(),
+            friction,
+            cutoff_hz,
+            modes: n_m,
+            size,
+            other_contacts,
+            mesh_hash: String::new(),
+            study_hash: String::new(),
+            boundary: pairs_out,
+        },
+        stiffness,
+        mass,
+        load: load_r,
+        equilibrium: q_s,
+    };
+    Ok(CraigBampton {
+        superelement,
+        basis: t,
+    })
+}
