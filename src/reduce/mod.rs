@@ -12,12 +12,14 @@
 //! - [`radius`]: the optimal radius of influence per weighting degree, the paper's elementary
 //!   triangle (Table 2) and the whole-grid optimum ([`radius_table`]).
 
+pub mod assembly;
 pub mod coupling;
 mod error;
 pub mod grid;
 pub mod interface;
 pub mod radius;
 pub mod superelement;
+pub mod superelement_file;
 
 pub use coupling::{
     couple_grid, distributing_coupling, CouplingNode, DistributingCoupling, Weighting,
