@@ -383,7 +383,24 @@ impl<'se> Assembly<'se> {
         friction: f64,
         options: &StaticOptions,
     ) -> Result<ReducedStatic, AssemblyError> {
-        let mut q = self.se.equilibrium.clone();
+        self.solve_static_from(&self.se.equilibrium, friction, options)
+    }
+
+    /// [`Assembly::solve_static`] from another start (a neighbouring sweep point's q).
+    pub fn solve_static_from(
+        &self,
+        start: &[f64],
+        friction: f64,
+        options: &StaticOptions,
+    ) -> Result<ReducedStatic, AssemblyError> {
+        if start.len() != self.se.header.size {
+            return Err(AssemblyError::Inconsistent(format!(
+                "a start of {} coordinates for size {}",
+                start.len(),
+                self.se.header.size
+            )));
+        }
+        let mut q = start.to_vec();
         let mut r = self.residual(&q, friction);
         let mut norm = norm2(&r);
         let reference = match norm2(&self.se.load) {
@@ -1015,6 +1032,41 @@ mod tests {
             }
             assert!(r2 <= 1e-12 * (1e8 + w2.norm()), "{r2:e}");
         }
+    }
+
+    #[test]
+    fn a_free_motion_is_rigid_and_never_unstable() {
+        // Two unit masses on a spring, nothing holding them: omega^2 = 0 (round-off) and 2k.
+        let k = Mat::from_fn(2, 2, |i, j| if i == j { 1e6 } else { -1e6 });
+        let m = Mat::<f64>::identity(2, 2);
+        let r = dense_cea(k.as_ref(), m.as_ref(), &DenseCeaOptions::default()).unwrap();
+        assert_eq!(r.modes.len(), 2);
+        assert!(
+            r.modes[0].rigid_body && !r.modes[0].unstable,
+            "{:?}",
+            r.modes[0]
+        );
+        assert!(!r.modes[1].rigid_body);
+        let f = (2e6f64).sqrt() / (2.0 * PI);
+        assert!((r.modes[1].frequency_hz - f).abs() <= 1e-12 * f);
+    }
+
+    #[test]
+    fn newton_from_a_neighbouring_point() {
+        let se = synthetic();
+        let asm = Assembly::new(&se, &strong_cubic(&se)).unwrap();
+        let options = StaticOptions::default();
+        let a = asm.solve_static(0.6, &options).unwrap();
+        let b = asm.solve_static_from(&a.q, 0.7, &options).unwrap();
+        let c = asm.solve_static(0.7, &options).unwrap();
+        let gap =
+            b.q.iter()
+                .zip(&c.q)
+                .map(|(x, y)| (x - y).abs())
+                .fold(0.0, f64::max);
+        // One equilibrium, reached from two starts: agreement to the tolerance's scale.
+        assert!(gap <= 1e-12, "{gap:e}");
+        assert!(asm.solve_static_from(&a.q[1..], 0.7, &options).is_err());
     }
 
     #[test]
