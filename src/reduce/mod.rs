@@ -11,6 +11,10 @@
 //!   replaced by node-to-node contacts between reduced contact nodes ([`reduce_interface`]).
 //! - [`radius`]: the optimal radius of influence per weighting degree, the paper's elementary
 //!   triangle (Table 2) and the whole-grid optimum ([`radius_table`]).
+//! - [`superelement`]: the Craig-Bampton super-element as plain data (the contract between its
+//!   builder and the dense assembly); [`superelement_file`]: its checked file format.
+//! - [`assembly`]: the dense super-element assembly: cubic node-to-node contact with force
+//!   matching (eq. 8), the reduced Newton static at any mu, and the dense CEA.
 
 pub mod assembly;
 pub mod coupling;
