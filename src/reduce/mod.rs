@@ -14,7 +14,12 @@
 //!   equilibrium ([`build_superelement`], [`build_with_basis`] to keep T for expansions).
 //! - [`radius`]: the optimal radius of influence per weighting degree, the paper's elementary
 //!   triangle (Table 2) and the whole-grid optimum ([`radius_table`]).
+//! - [`superelement`]: the Craig-Bampton super-element as plain data (the contract between its
+//!   builder and the dense assembly); [`superelement_file`]: its checked file format.
+//! - [`assembly`]: the dense super-element assembly: cubic node-to-node contact with force
+//!   matching (eq. 8), the reduced Newton static at any mu, and the dense CEA.
 
+pub mod assembly;
 pub mod coupling;
 pub mod craig_bampton;
 mod error;
@@ -22,6 +27,7 @@ pub mod grid;
 pub mod interface;
 pub mod radius;
 pub mod superelement;
+pub mod superelement_file;
 
 pub use coupling::{
     couple_grid, distributing_coupling, CouplingNode, DistributingCoupling, Weighting,

@@ -1,0 +1,1118 @@
+//! The super-element assembly (METHOD.md section 7; the paper's sections 3.2.2, 3.2.3): the
+//! dense reduced model of a [`SuperElement`] with its swept contact put back as node-to-node
+//! cubic springs, its non-linear static at any friction value, its linearisation and the
+//! dense complex eigenvalue analysis.
+//!
+//! Per boundary pair k, with u_p = q[6k..6k+3] (pad contact node), u_d = q[6k+3..6k+6] (disc
+//! node), n the disc normal (out of the disc, towards the pad) and t the sliding direction:
+//!
+//! ```text
+//!   g  = g0 + n . (u_p - u_d)            geometric gap, negative = penetration
+//!   d  = -g                              approach, positive = penetration
+//!   s  = d + xi                          matched approach (xi: eq. 8)
+//!   F  = k_l s + k_nl s^3                if s >= 0 or the pair is bilateral, else 0 (eq. 6)
+//!   on the pad:  +F (n + mu t)           on the disc node: -F (n + mu t)
+//! ```
+//!
+//! The residual follows the internal-force convention of `crate::contact::penalty`:
+//! R(q) = K_r q + F_c(q) - T^T F_ext with F_c = minus the contact forces, so its Jacobian's
+//! contact blocks are c_a c_b F'(s) (n + mu t) n^T (c = +1 pad, -1 disc), the same blocks as
+//! the full model's penalty law with k A replaced by F'(s).
+//!
+//! Touching (s = 0) counts as closed, as in the penalty law: the force is 0 there either way,
+//! and the pair keeps its stiffness k_l in the tangent.
+//!
+//! Force matching (eq. 8): xi is chosen per pair so that F(d_s + xi) = F_nl, the full
+//! model's normal force at the super-element's equilibrium q_s: then K_r q_s + F_c(q_s) is the
+//! full model's K q + F_c at its equilibrium, and R(q_s) = 0 (eq. 5) at the super-element's
+//! own friction value. A pair that is open in the full model (F_nl = 0, separation allowed)
+//! keeps its geometric gap (xi = 0): it stays open at q_s and closes where the full model's
+//! would. (Were its geometric approach d_s >= 0, which a consistent full model cannot give
+//! with F_nl = 0 except by exactly touching, it is put exactly at contact, s = 0.)
+
+use super::superelement::{BoundaryPair, SuperElement};
+use crate::analysis::cea::{by_frequency, lambda_of, mode_from_lambda, CeaOptions, ComplexMode};
+use crate::analysis::rigid;
+use crate::vector3::{add, dot, scale, sub};
+use faer::linalg::solvers::Solve;
+use faer::{Mat, MatRef, Side};
+use num_complex::Complex64;
+use std::f64::consts::PI;
+
+/// The cubic contact law's stiffnesses (eq. 6), the same for every boundary pair.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct CubicContact {
+    /// k_l, N/m; `None`: each pair's full-model stiffness, penalty * area (then with
+    /// `k_cubic = 0` the assembly reproduces the full model's linear penalty law exactly).
+    pub k_linear: Option<f64>,
+    /// k_nl, N/m^3 (>= 0).
+    pub k_cubic: f64,
+}
+
+impl Default for CubicContact {
+    fn default() -> Self {
+        CubicContact {
+            k_linear: None,
+            k_cubic: 0.0,
+        }
+    }
+}
+
+/// One boundary pair's contact law after force matching.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct PairLaw {
+    pub k_linear: f64,
+    pub k_cubic: f64,
+    /// xi of eq. 8: added to the geometric approach.
+    pub offset: f64,
+    /// Whether the pair may open (else bilateral: the cubic holds for any s, may pull).
+    pub separation: bool,
+}
+
+impl PairLaw {
+    /// Whether the law is active at matched approach s (touching counts as closed).
+    pub fn closed(&self, s: f64) -> bool {
+        !self.separation || s >= 0.0
+    }
+
+    /// F(s) = k_l s + k_nl s^3 where closed, else 0.
+    pub fn force(&self, s: f64) -> f64 {
+        if self.closed(s) {
+            self.k_linear * s + self.k_cubic * (s * s * s)
+        } else {
+            0.0
+        }
+    }
+
+    /// dF/ds.
+    pub fn tangent(&self, s: f64) -> f64 {
+        if self.closed(s) {
+            self.k_linear + 3.0 * self.k_cubic * (s * s)
+        } else {
+            0.0
+        }
+    }
+}
+
+/// The real root s of the monotone cubic k_nl s^3 + k_l s = f (k_l > 0, k_nl >= 0).
+///
+/// Newton from the upper bound min(|f| / k_l, (|f| / k_nl)^(1/3)) (each term alone reaches
+/// |f| there): the cubic is increasing and convex on s > 0, so the iterates decrease
+/// monotonically onto the root, and stop when round-off ends the decrease. The odd symmetry
+/// gives negative f. Cardano's formula was not used: with k_nl s^2 << k_l its two cube roots
+/// nearly cancel and lose the digits that the 1e-12 force match needs.
+pub fn cubic_root(k_linear: f64, k_cubic: f64, f: f64) -> f64 {
+    if f == 0.0 {
+        return 0.0;
+    }
+    if k_cubic == 0.0 {
+        return f / k_linear;
+    }
+    let target = f.abs();
+    let mut s = (target / k_linear).min((target / k_cubic).cbrt());
+    for _ in 0..200 {
+        let g = k_cubic * (s * s * s) + k_linear * s - target;
+        let next = s - g / (k_linear + 3.0 * k_cubic * (s * s));
+        if next >= s || !next.is_finite() {
+            break;
+        }
+        s = next;
+    }
+    s.copysign(f)
+}
+
+/// What can go wrong in the dense assembly, its static and its CEA.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum AssemblyError {
+    /// The super-element's arrays disagree with its header or with each other.
+    #[error("super-element: {0}")]
+    Inconsistent(String),
+    /// Contact stiffnesses that cannot be used.
+    #[error("cubic contact: {0}")]
+    InvalidContact(String),
+    /// A boundary pair whose data cannot be matched.
+    #[error("boundary pair {index} (pair '{pair}'): {why}")]
+    InvalidPair {
+        index: usize,
+        pair: String,
+        why: String,
+    },
+    /// The Jacobian could not be solved (a non-finite Newton step).
+    #[error("reduced static at mu = {friction}: singular Jacobian at iteration {iteration}")]
+    Singular { friction: f64, iteration: usize },
+    /// Newton did not reach the tolerance.
+    #[error(
+        "reduced static at mu = {friction}: no convergence after {iterations} iteration(s) \
+         (|R| must fall to {tolerance:.3e}); residual history {}",
+        show_history(.history)
+    )]
+    NotConverged {
+        friction: f64,
+        iterations: usize,
+        tolerance: f64,
+        history: Vec<f64>,
+    },
+    /// The reduced mass is not symmetric positive definite (its Cholesky failed).
+    #[error("the reduced mass is not positive definite (Cholesky failed)")]
+    MassNotPositiveDefinite,
+    /// The dense eigensolver failed (non-finite input or no convergence).
+    #[error("dense eigensolver: {0}")]
+    Eigen(String),
+}
+
+fn show_history(history: &[f64]) -> String {
+    let items: Vec<String> = history.iter().map(|r| format!("{r:.3e}")).collect();
+    format!("[{}]", items.join(", "))
+}
+
+/// One boundary pair's state for some q.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct PairState {
+    /// Matched approach s = d + xi (positive = closed with a positive force).
+    pub approach: f64,
+    /// Normal force F(s) on the pad.
+    pub force: f64,
+    pub closed: bool,
+}
+
+/// Newton settings for the reduced static.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StaticOptions {
+    /// Converged when |R| <= tolerance * |load|.
+    pub tolerance: f64,
+    pub max_iterations: usize,
+}
+
+impl Default for StaticOptions {
+    fn default() -> Self {
+        StaticOptions {
+            tolerance: 1e-10,
+            max_iterations: 50,
+        }
+    }
+}
+
+/// A converged reduced static.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ReducedStatic {
+    pub friction: f64,
+    pub q: Vec<f64>,
+    /// Newton steps taken (0 when the start already satisfied the tolerance).
+    pub iterations: usize,
+    /// |R| at the start and after every step.
+    pub residual_history: Vec<f64>,
+    pub pairs: Vec<PairState>,
+}
+
+/// The assembled reduced model of one super-element with its cubic contact laws matched.
+#[derive(Clone, Debug)]
+pub struct Assembly<'se> {
+    se: &'se SuperElement,
+    laws: Vec<PairLaw>,
+}
+
+/// n + mu t, the direction of a pair's force on the pad.
+fn direction(pair: &BoundaryPair, friction: f64) -> [f64; 3] {
+    match pair.sliding {
+        Some(t) => add(pair.normal, scale(friction, t)),
+        None => pair.normal,
+    }
+}
+
+fn norm2(v: &[f64]) -> f64 {
+    v.iter().map(|x| x * x).sum::<f64>().sqrt()
+}
+
+impl<'se> Assembly<'se> {
+    /// Checks the super-element and matches every pair's force (eq. 8).
+    pub fn new(se: &'se SuperElement, contact: &CubicContact) -> Result<Self, AssemblyError> {
+        let n = se.header.size;
+        let shape = |what: &str, rows: usize, cols: usize| {
+            if (rows, cols) == (n, n) {
+                Ok(())
+            } else {
+                Err(AssemblyError::Inconsistent(format!(
+                    "{what} is {rows}x{cols}, the header's size is {n}"
+                )))
+            }
+        };
+        shape("K_r", se.stiffness.nrows(), se.stiffness.ncols())?;
+        shape("M_r", se.mass.nrows(), se.mass.ncols())?;
+        shape("load", se.load.len(), n)?;
+        shape("equilibrium", se.equilibrium.len(), n)?;
+        if se.boundary_size() > n {
+            return Err(AssemblyError::Inconsistent(format!(
+                "{} boundary pairs need {} coordinates, the size is {n}",
+                se.header.boundary.len(),
+                se.boundary_size()
+            )));
+        }
+        if !(contact.k_cubic >= 0.0 && contact.k_cubic.is_finite()) {
+            return Err(AssemblyError::InvalidContact(format!(
+                "k_nl = {} must be finite and >= 0",
+                contact.k_cubic
+            )));
+        }
+        let mut laws = Vec::with_capacity(se.header.boundary.len());
+        for (index, pair) in se.header.boundary.iter().enumerate() {
+            let invalid = |why: String| AssemblyError::InvalidPair {
+                index,
+                pair: pair.pair.clone(),
+                why,
+            };
+            let k_linear = contact.k_linear.unwrap_or(pair.penalty * pair.area);
+            if !(k_linear > 0.0 && k_linear.is_finite()) {
+                return Err(invalid(format!("k_l = {k_linear} must be finite and > 0")));
+            }
+            let f = pair.normal_force;
+            if !f.is_finite() || (pair.separation && f < 0.0) {
+                return Err(invalid(format!(
+                    "normal force {f} (a pair that may open carries a finite force >= 0)"
+                )));
+            }
+            let d = geometric_approach(pair, &se.equilibrium[6 * index..6 * index + 6]);
+            if !d.is_finite() {
+                return Err(invalid("non-finite gap at the equilibrium".into()));
+            }
+            let s = if pair.separation && f == 0.0 {
+                d.min(0.0)
+            } else {
+                cubic_root(k_linear, contact.k_cubic, f)
+            };
+            laws.push(PairLaw {
+                k_linear,
+                k_cubic: contact.k_cubic,
+                offset: s - d,
+                separation: pair.separation,
+            });
+        }
+        let assembly = Assembly { se, laws };
+        let mismatch = assembly.force_mismatch();
+        if mismatch > 1e-12 {
+            // Only when a pair's geometric approach dwarfs its matched one (|d_s| >> |s|):
+            // s = d + xi then carries the round-off of d.
+            tracing::warn!(
+                "super-element force matching: a pair's force at q_s is off by {mismatch:.3e} \
+                 (relative) from the full model's"
+            );
+        }
+        Ok(assembly)
+    }
+
+    /// The largest relative difference between a pair's force at q_s and the full model's
+    /// F_nl (absolute, in N, for pairs with F_nl = 0): round-off, and checked to be at most
+    /// 1e-12 by the tests.
+    pub fn force_mismatch(&self) -> f64 {
+        self.pair_states(&self.se.equilibrium)
+            .iter()
+            .zip(&self.se.header.boundary)
+            .map(|(state, pair)| {
+                let f = pair.normal_force;
+                let scale = if f != 0.0 { f.abs() } else { 1.0 };
+                (state.force - f).abs() / scale
+            })
+            .fold(0.0, f64::max)
+    }
+
+    pub fn super_element(&self) -> &SuperElement {
+        self.se
+    }
+
+    /// The matched laws, one per boundary pair.
+    pub fn laws(&self) -> &[PairLaw] {
+        &self.laws
+    }
+
+    /// The matched approach s = d + xi of every pair for q.
+    fn approaches<'a>(&'a self, q: &'a [f64]) -> impl Iterator<Item = f64> + 'a {
+        self.se
+            .header
+            .boundary
+            .iter()
+            .zip(&self.laws)
+            .enumerate()
+            .map(move |(k, (pair, law))| {
+                geometric_approach(pair, &q[6 * k..6 * k + 6]) + law.offset
+            })
+    }
+
+    /// Every pair's state for q.
+    pub fn pair_states(&self, q: &[f64]) -> Vec<PairState> {
+        self.approaches(q)
+            .zip(&self.laws)
+            .map(|(s, law)| PairState {
+                approach: s,
+                force: law.force(s),
+                closed: law.closed(s),
+            })
+            .collect()
+    }
+
+    /// R(q) = K_r q + F_c(q; mu) - load (see the module doc).
+    pub fn residual(&self, q: &[f64], friction: f64) -> Vec<f64> {
+        let k = &self.se.stiffness;
+        let mut r: Vec<f64> = self.se.load.iter().map(|f| -f).collect();
+        for (j, &qj) in q.iter().enumerate() {
+            if qj != 0.0 {
+                for (i, ri) in r.iter_mut().enumerate() {
+                    *ri += k[(i, j)] * qj;
+                }
+            }
+        }
+        for (k, (s, law)) in self.approaches(q).zip(&self.laws).enumerate() {
+            let force = law.force(s);
+            if force != 0.0 {
+                let f = scale(force, direction(&self.se.header.boundary[k], friction));
+                for i in 0..3 {
+                    r[6 * k + i] -= f[i];
+                    r[6 * k + 3 + i] += f[i];
+                }
+            }
+        }
+        r
+    }
+
+    /// dR/dq: K_r plus, per closed pair, c_a c_b F'(s) (n + mu t) n^T.
+    pub fn jacobian(&self, q: &[f64], friction: f64) -> Mat<f64> {
+        let mut j = self.se.stiffness.clone();
+        for (k, (s, law)) in self.approaches(q).zip(&self.laws).enumerate() {
+            if !law.closed(s) {
+                continue;
+            }
+            let pair = &self.se.header.boundary[k];
+            let (dir, n, kt) = (direction(pair, friction), pair.normal, law.tangent(s));
+            for (a, ca) in [(0, 1.0), (1, -1.0)] {
+                for (b, cb) in [(0, 1.0), (1, -1.0)] {
+                    let c = kt * (ca * cb);
+                    for r in 0..3 {
+                        for col in 0..3 {
+                            j[(6 * k + 3 * a + r, 6 * k + 3 * b + col)] += c * (dir[r] * n[col]);
+                        }
+                    }
+                }
+            }
+        }
+        j
+    }
+
+    /// |R(q_s)| / |load| at friction mu: round-off at the super-element's own friction when
+    /// its load is consistent (eq. 5).
+    pub fn equilibrium_residual(&self, friction: f64) -> f64 {
+        norm2(&self.residual(&self.se.equilibrium, friction)) / norm2(&self.se.load)
+    }
+
+    /// The reduced non-linear static at friction mu, by Newton from q_s with the analytic
+    /// Jacobian (dense LU) and a backtracking line search on |R|.
+    pub fn solve_static(
+        &self,
+        friction: f64,
+        options: &StaticOptions,
+    ) -> Result<ReducedStatic, AssemblyError> {
+        self.solve_static_from(&self.se.equilibrium, friction, options)
+    }
+
+    /// [`Assembly::solve_static`] from another start (a neighbouring sweep point's q).
+    pub fn solve_static_from(
+        &self,
+        start: &[f64],
+        friction: f64,
+        options: &StaticOptions,
+    ) -> Result<ReducedStatic, AssemblyError> {
+        if start.len() != self.se.header.size {
+            return Err(AssemblyError::Inconsistent(format!(
+                "a start of {} coordinates for size {}",
+                start.len(),
+                self.se.header.size
+            )));
+        }
+        let mut q = start.to_vec();
+        let mut r = self.residual(&q, friction);
+        let mut norm = norm2(&r);
+        let reference = match norm2(&self.se.load) {
+            l if l > 0.0 => l,
+            _ => norm2(&self.residual(&q, friction)).max(f64::MIN_POSITIVE),
+        };
+        let tolerance = options.tolerance * reference;
+        let mut history = vec![norm];
+        let mut iterations = 0;
+        while norm > tolerance {
+            if iterations >= options.max_iterations {
+                return Err(AssemblyError::NotConverged {
+                    friction,
+                    iterations,
+                    tolerance,
+                    history,
+                });
+            }
+            let jac = self.jacobian(&q, friction);
+            let mut step = Mat::from_fn(q.len(), 1, |i, _| -r[i]);
+            jac.partial_piv_lu().solve_in_place(step.as_mut());
+            if (0..q.len()).any(|i| !step[(i, 0)].is_finite()) {
+                return Err(AssemblyError::Singular {
+                    friction,
+                    iteration: iterations,
+                });
+            }
+            iterations += 1;
+            // Armijo backtracking on |R|: the Newton step is a descent direction wherever
+            // R is smooth; halving copes with a pair changing state inside the step.
+            let mut alpha = 1.0;
+            let mut accepted = None;
+            for _ in 0..30 {
+                let trial: Vec<f64> = (0..q.len()).map(|i| q[i] + alpha * step[(i, 0)]).collect();
+                let rt = self.residual(&trial, friction);
+                let nt = norm2(&rt);
+                if nt <= (1.0 - 1e-4 * alpha) * norm {
+                    accepted = Some((trial, rt, nt));
+                    break;
+                }
+                alpha *= 0.5;
+            }
+            match accepted {
+                Some((trial, rt, nt)) => {
+                    q = trial;
+                    r = rt;
+                    norm = nt;
+                    history.push(norm);
+                }
+                None => {
+                    // No decrease: the round-off floor, accepted well below any physical
+                    // imbalance (as the full model's Newton does), or a failure.
+                    if norm <= 1e-8 * reference {
+                        break;
+                    }
+                    return Err(AssemblyError::NotConverged {
+                        friction,
+                        iterations,
+                        tolerance,
+                        history,
+                    });
+                }
+            }
+        }
+        let pairs = self.pair_states(&q);
+        Ok(ReducedStatic {
+            friction,
+            q,
+            iterations,
+            residual_history: history,
+            pairs,
+        })
+    }
+
+    /// The dense CEA of the linearisation at q (normally a [`ReducedStatic`]'s q).
+    pub fn cea(
+        &self,
+        q: &[f64],
+        friction: f64,
+        options: &DenseCeaOptions,
+    ) -> Result<DenseCeaResult, AssemblyError> {
+        dense_cea(
+            self.jacobian(q, friction).as_ref(),
+            self.se.mass.as_ref(),
+            options,
+        )
+    }
+}
+
+/// d = -(g0 + n . (u_pad - u_disc)) for a pair's six coordinates.
+fn geometric_approach(pair: &BoundaryPair, q: &[f64]) -> f64 {
+    let pad = [q[0], q[1], q[2]];
+    let disc = [q[3], q[4], q[5]];
+    -(pair.initial_gap + dot(pair.normal, sub(pad, disc)))
+}
+
+/// Settings of the dense CEA.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DenseCeaOptions {
+    /// Modes from 0 Hz up to this frequency.
+    pub max_frequency_hz: f64,
+    /// As [`CeaOptions::unstable_threshold`] (the same default).
+    pub unstable_threshold: f64,
+}
+
+impl Default for DenseCeaOptions {
+    fn default() -> Self {
+        let sparse = CeaOptions::default();
+        DenseCeaOptions {
+            max_frequency_hz: sparse.max_frequency_hz,
+            unstable_threshold: sparse.unstable_threshold,
+        }
+    }
+}
+
+/// The modes of the band and their shapes in q, sorted by [`by_frequency`].
+#[derive(Clone, Debug)]
+pub struct DenseCeaResult {
+    pub modes: Vec<ComplexMode>,
+    /// One per mode, in q (expand with u = T q), the largest component scaled to 1 + 0i.
+    pub shapes: Vec<Vec<Complex64>>,
+}
+
+/// The undamped CEA of (K, M) on dense matrices, K unsymmetric, M symmetric positive
+/// definite: M = L L^T, the standard problem A y = omega^2 y with A = L^-1 K L^-T (faer's
+/// dense non-symmetric eigensolver), then x = L^-T y. (The QZ path, `generalized_eigen`, is
+/// minutes at n ~ 1000, see TOOLCHAIN.md.) Modes are classified exactly as the sparse CEA
+/// classifies its own ([`mode_from_lambda`], rigid-body flags from [`rigid`]). Each mode's
+/// residual is |K x - omega^2 M x| / ((|K|_F + |omega^2| |M|_F) |x|), a backward error.
+pub fn dense_cea(
+    stiffness: MatRef<'_, f64>,
+    mass: MatRef<'_, f64>,
+    options: &DenseCeaOptions,
+) -> Result<DenseCeaResult, AssemblyError> {
+    let n = stiffness.nrows();
+    if stiffness.ncols() != n || mass.nrows() != n || mass.ncols() != n {
+        return Err(AssemblyError::Inconsistent(format!(
+            "K is {}x{}, M is {}x{}",
+            stiffness.nrows(),
+            stiffness.ncols(),
+            mass.nrows(),
+            mass.ncols()
+        )));
+    }
+    if options.max_frequency_hz.is_nan() || options.max_frequency_hz <= 0.0 {
+        return Err(AssemblyError::Inconsistent(format!(
+            "the band must be positive, got {} Hz",
+            options.max_frequency_hz
+        )));
+    }
+    let llt = mass
+        .llt(Side::Lower)
+        .map_err(|_| AssemblyError::MassNotPositiveDefinite)?;
+    let l = llt.L();
+    // A = L^-1 K L^-T: X = L^-1 K, then A^T = L^-1 X^T.
+    let mut x = stiffness.to_owned();
+    l.solve_lower_triangular_in_place(x.as_mut());
+    let mut at = x.transpose().to_owned();
+    l.solve_lower_triangular_in_place(at.as_mut());
+    let a = at.transpose().to_owned();
+    let evd = a
+        .eigen()
+        .map_err(|e| AssemblyError::Eigen(format!("{e:?}")))?;
+    let values = evd.S().column_vector();
+    let vectors = evd.U();
+    let kept: Vec<usize> = (0..n)
+        .filter(|&j| {
+            let f = lambda_of(values[j]).im / (2.0 * PI);
+            f.is_finite() && f <= options.max_frequency_hz
+        })
+        .collect();
+    let m = kept.len();
+    // x = L^-T y, real and imaginary parts apart (L is real).
+    let mut xr = Mat::from_fn(n, m, |i, c| vectors[(i, kept[c])].re);
+    let mut xi = Mat::from_fn(n, m, |i, c| vectors[(i, kept[c])].im);
+    l.transpose().solve_upper_triangular_in_place(xr.as_mut());
+    l.transpose().solve_upper_triangular_in_place(xi.as_mut());
+    let (kr, ki) = (stiffness * &xr, stiffness * &xi);
+    let (mr, mi) = (mass * &xr, mass * &xi);
+    let frobenius = |a: MatRef<'_, f64>| {
+        let mut s = 0.0;
+        for j in 0..a.ncols() {
+            for i in 0..a.nrows() {
+                s += a[(i, j)] * a[(i, j)];
+            }
+        }
+        s.sqrt()
+    };
+    let (k_norm, m_norm) = (frobenius(stiffness), frobenius(mass));
+    let level =
+        rigid::ROUNDOFF * rigid::local_reference((0..n).map(|i| (stiffness[(i, i)], mass[(i, i)])));
+    let magnitudes: Vec<f64> = kept.iter().map(|&j| values[j].norm()).collect();
+    let rigid_flags = rigid::rigid_body_flags(&magnitudes, level, None);
+    let mut found: Vec<(ComplexMode, Vec<Complex64>)> = Vec::with_capacity(m);
+    for (c, &j) in kept.iter().enumerate() {
+        let w2 = values[j];
+        let mut residual2 = 0.0;
+        let mut x2 = 0.0;
+        let mut shape = Vec::with_capacity(n);
+        for i in 0..n {
+            let xv = Complex64::new(xr[(i, c)], xi[(i, c)]);
+            let r = Complex64::new(kr[(i, c)], ki[(i, c)])
+                - w2 * Complex64::new(mr[(i, c)], mi[(i, c)]);
+            residual2 += r.norm_sqr();
+            x2 += xv.norm_sqr();
+            shape.push(xv);
+        }
+        let residual = residual2.sqrt() / ((k_norm + w2.norm() * m_norm) * x2.sqrt());
+        let biggest = shape
+            .iter()
+            .copied()
+            .max_by(|a, b| a.norm_sqr().total_cmp(&b.norm_sqr()))
+            .unwrap_or(Complex64::new(1.0, 0.0));
+        if biggest.norm() > 0.0 {
+            let s = biggest.inv();
+            shape.iter_mut().for_each(|v| *v *= s);
+        }
+        let mode = mode_from_lambda(
+            lambda_of(w2),
+            residual,
+            options.unstable_threshold,
+            rigid_flags[c],
+        );
+        found.push((mode, shape));
+    }
+    found.sort_by(|a, b| by_frequency(&a.0, &b.0));
+    let (modes, shapes) = found.into_iter().unzip();
+    Ok(DenseCeaResult { modes, shapes })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::contact::{self, ContactPoint, PairSettings, SlidingDirection};
+    use crate::reduce::superelement::SuperElementHeader;
+
+    /// Deterministic numbers in [-1, 1).
+    struct Lcg(u64);
+    impl Lcg {
+        fn next(&mut self) -> f64 {
+            self.0 = self
+                .0
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((self.0 >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
+        }
+    }
+
+    /// B^T B / n + shift I, symmetric positive definite.
+    fn spd(n: usize, rng: &mut Lcg, scale: f64, shift: f64) -> Mat<f64> {
+        let b = Mat::from_fn(n, n, |_, _| rng.next());
+        let mut a = b.transpose() * &b;
+        for j in 0..n {
+            for i in 0..n {
+                a[(i, j)] = scale * (a[(i, j)] / n as f64 + if i == j { shift } else { 0.0 });
+            }
+        }
+        a
+    }
+
+    const MU_SE: f64 = 0.5;
+
+    /// The full model's penalty pair of boundary pair k, on nodes 2k (pad), 2k+1 (disc).
+    fn penalty_pair(k: usize, b: &BoundaryPair, friction: f64) -> contact::ContactPair {
+        let settings = PairSettings {
+            name: b.pair.clone(),
+            friction,
+            penalty: None,
+            separation: b.separation,
+            sliding: SlidingDirection::None,
+        };
+        let point = ContactPoint {
+            slave: vec![(2 * k, 1.0)],
+            master: vec![(2 * k + 1, 1.0)],
+            normal: b.normal,
+            initial_gap: b.initial_gap,
+            area: b.area,
+            tangent: b.sliding,
+            position: b.pad_position,
+            slave_node: 2 * k,
+            master_face: None,
+        };
+        contact::node_to_node(settings, b.penalty, vec![point]).unwrap()
+    }
+
+    fn nodes(q: &[f64], pairs: usize) -> Vec<[f64; 3]> {
+        (0..2 * pairs)
+            .map(|i| [q[3 * i], q[3 * i + 1], q[3 * i + 2]])
+            .collect()
+    }
+
+    /// The full model's penalty residual and Jacobian restricted to the boundary (reduced
+    /// size), from `crate::contact::penalty`: the independent reference.
+    fn penalty_terms(se: &SuperElement, q: &[f64], friction: f64) -> (Vec<f64>, Mat<f64>) {
+        let size = se.header.size;
+        let u = nodes(q, se.header.boundary.len());
+        let mut r = vec![0.0; size];
+        let mut j = Mat::zeros(size, size);
+        for (k, b) in se.header.boundary.iter().enumerate() {
+            let pair = penalty_pair(k, b, friction);
+            let (_, c) = contact::evaluate(&pair, &pair.points[0], &u).unwrap();
+            if let Some(c) = c {
+                for (a, &node) in c.nodes.iter().enumerate() {
+                    for i in 0..3 {
+                        r[3 * node + i] += c.residual[3 * a + i];
+                        for (bb, &other) in c.nodes.iter().enumerate() {
+                            for jj in 0..3 {
+                                j[(3 * node + i, 3 * other + jj)] +=
+                                    c.jacobian[(3 * a + i) * 6 + 3 * bb + jj];
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        (r, j)
+    }
+
+    /// Three boundary pairs (closed, open, bilateral in tension), 2 modes + the static
+    /// correction: size 21. K_r SPD plus an unsymmetric part (the other contacts' friction),
+    /// M_r SPD, q_s of micrometres; the normal forces and the load are the full penalty
+    /// model's at q_s and mu_SE (load := K_r q_s + F_c,penalty(q_s)), so eq. 5 holds there.
+    fn synthetic() -> SuperElement {
+        let mut rng = Lcg(42);
+        let size = 21;
+        let mut stiffness = spd(size, &mut rng, 1e8, 1.0);
+        let skew = Mat::from_fn(size, size, |_, _| rng.next());
+        for j in 0..size {
+            for i in 0..size {
+                stiffness[(i, j)] += 2e6 * (skew[(i, j)] - skew[(j, i)]);
+            }
+        }
+        let mass = spd(size, &mut rng, 0.1, 0.5);
+        let equilibrium: Vec<f64> = (0..size).map(|_| 1e-6 * rng.next()).collect();
+        let unit = |v: [f64; 3]| scale(1.0 / dot(v, v).sqrt(), v);
+        // (normal, sliding, separation, gap at q_s)
+        let specs = [
+            ([0.0, 0.0, 1.0], Some([1.0, 0.0, 0.0]), true, -3e-6),
+            (unit([0.6, 0.0, 0.8]), Some([0.0, 1.0, 0.0]), true, 4e-6),
+            (unit([0.0, 0.6, 0.8]), None, false, 1e-6),
+        ];
+        let mut boundary = Vec::new();
+        for (k, (normal, sliding, separation, gap)) in specs.into_iter().enumerate() {
+            let q = &equilibrium[6 * k..6 * k + 6];
+            let rel = sub([q[0], q[1], q[2]], [q[3], q[4], q[5]]);
+            boundary.push(BoundaryPair {
+                pair: format!("pad{}", k % 2),
+                pad_position: [0.1 * k as f64, 0.0, 0.0],
+                disc_position: [0.1 * k as f64, 0.0, -0.001],
+                normal,
+                sliding,
+                initial_gap: gap - dot(normal, rel),
+                area: 1e-4,
+                penalty: 1e12,
+                separation,
+                normal_force: 0.0,
+            });
+        }
+        let mut se = SuperElement {
+            header: SuperElementHeader {
+                units: "SI".into(),
+                friction: MU_SE,
+                cutoff_hz: 2e4,
+                modes: 2,
+                size,
+                other_contacts: vec![("piston".into(), vec![true, false])],
+                mesh_hash: "mesh".into(),
+                study_hash: "study".into(),
+                boundary,
+            },
+            stiffness,
+            mass,
+            load: vec![0.0; size],
+            equilibrium,
+        };
+        let u = nodes(&se.equilibrium, 3);
+        for k in 0..3 {
+            let pair = penalty_pair(k, &se.header.boundary[k], MU_SE);
+            se.header.boundary[k].normal_force = contact::point_state(&pair, &pair.points[0], &u)
+                .unwrap()
+                .normal_force;
+        }
+        let (rc, _) = penalty_terms(&se, &se.equilibrium, MU_SE);
+        se.load = (0..size)
+            .map(|i| {
+                rc[i]
+                    + (0..size)
+                        .map(|j| se.stiffness[(i, j)] * se.equilibrium[j])
+                        .sum::<f64>()
+            })
+            .collect();
+        se
+    }
+
+    /// A cubic stiffness whose cubic term is 4 times the linear one at the closed pair's
+    /// 3 micrometres: a strongly non-linear law.
+    fn strong_cubic(se: &SuperElement) -> CubicContact {
+        let kl = se.header.boundary[0].penalty * se.header.boundary[0].area;
+        CubicContact {
+            k_linear: None,
+            k_cubic: 4.0 * kl / (3e-6f64).powi(2),
+        }
+    }
+
+    #[test]
+    fn cubic_root_solves_the_cubic_to_round_off_at_every_balance() {
+        // From a negligible cubic term to a dominant one, both signs.
+        for (kl, knl) in [
+            (1e8, 1e-3),
+            (1e8, 1e19),
+            (1e8, 1e30),
+            (1.0, 1e40),
+            (3.0, 0.0),
+        ] {
+            for f in [1e-6, 0.37, 300.0, 1e7, -250.0] {
+                let s = cubic_root(kl, knl, f);
+                let back = kl * s + knl * s * s * s;
+                assert!(
+                    (back - f).abs() <= 1e-14 * f.abs(),
+                    "k_l {kl}, k_nl {knl}, F {f}: s {s} gives {back}"
+                );
+            }
+        }
+        assert_eq!(cubic_root(1.0, 1.0, 0.0), 0.0);
+    }
+
+    #[test]
+    fn force_matching_reproduces_the_full_forces_and_keeps_open_pairs_open() {
+        let se = synthetic();
+        let forces: Vec<f64> = se.header.boundary.iter().map(|b| b.normal_force).collect();
+        // The synthetic model has what it should: closed, open, bilateral pulling.
+        assert!(
+            forces[0] > 100.0 && forces[1] == 0.0 && forces[2] < -50.0,
+            "{forces:?}"
+        );
+        for contact in [CubicContact::default(), strong_cubic(&se)] {
+            let asm = Assembly::new(&se, &contact).unwrap();
+            let states = asm.pair_states(&se.equilibrium);
+            for (k, (state, f)) in states.iter().zip(&forces).enumerate() {
+                assert!(
+                    (state.force - f).abs() <= 1e-12 * f.abs(),
+                    "{contact:?} pair {k}: F(d_s + xi) = {} against F_nl = {f}",
+                    state.force
+                );
+            }
+            assert!(!states[1].closed && states[1].approach < 0.0);
+            assert!(asm.force_mismatch() <= 1e-12);
+            // The open pair keeps its geometric gap.
+            assert_eq!(asm.laws()[1].offset, 0.0);
+            assert!(states[0].closed && states[2].closed);
+        }
+        // The linear law with the full stiffness needs no offset (round-off only).
+        let asm = Assembly::new(&se, &CubicContact::default()).unwrap();
+        for law in asm.laws() {
+            assert!(law.offset.abs() <= 1e-12 * 3e-6, "{law:?}");
+        }
+        // With a stiffer law the closed pair needs less penetration: a negative offset.
+        let asm = Assembly::new(&se, &strong_cubic(&se)).unwrap();
+        assert!(asm.laws()[0].offset < -1e-7);
+    }
+
+    #[test]
+    fn the_super_element_sits_at_its_own_equilibrium_eq_5() {
+        let se = synthetic();
+        for contact in [CubicContact::default(), strong_cubic(&se)] {
+            let asm = Assembly::new(&se, &contact).unwrap();
+            let relative = asm.equilibrium_residual(MU_SE);
+            assert!(
+                relative <= 1e-12,
+                "{contact:?}: |R(q_s)| / |load| = {relative:e}"
+            );
+            let st = asm.solve_static(MU_SE, &StaticOptions::default()).unwrap();
+            assert_eq!(st.iterations, 0);
+            assert_eq!(st.q, se.equilibrium);
+        }
+    }
+
+    #[test]
+    fn newton_converges_at_other_friction_values() {
+        let se = synthetic();
+        let load = norm2(&se.load);
+        for contact in [CubicContact::default(), strong_cubic(&se)] {
+            let asm = Assembly::new(&se, &contact).unwrap();
+            for mu in [0.1, 0.3, 0.9] {
+                let st = asm.solve_static(mu, &StaticOptions::default()).unwrap();
+                let r = norm2(&asm.residual(&st.q, mu));
+                assert!(r <= 1e-10 * load, "mu {mu}: |R| {r:e}, load {load:e}");
+                assert!(
+                    st.iterations >= 1 && st.iterations <= 10,
+                    "{:?}",
+                    st.residual_history
+                );
+                assert_eq!(st.residual_history.len(), st.iterations + 1);
+                assert!(st.pairs[0].closed && !st.pairs[1].closed);
+            }
+        }
+    }
+
+    #[test]
+    fn the_jacobian_is_the_derivative_of_the_residual() {
+        // Central differences, step 1e-12 m on q of ~1e-6 m: truncation is zero for the
+        // linear parts and O(h^2 k_nl s) ~ 1e-24 relative for the cubic; round-off is
+        // eps |R| / h ~ 2e-16 * 1e3 / 1e-12 ~ 0.2 N/m against entries of ~1e8 N/m: 1e-6 of
+        // the largest entry leaves four decades of margin. No pair is near s = 0.
+        let se = synthetic();
+        let asm = Assembly::new(&se, &strong_cubic(&se)).unwrap();
+        let mu = 0.7;
+        let q = asm.solve_static(mu, &StaticOptions::default()).unwrap().q;
+        let j = asm.jacobian(&q, mu);
+        let size = q.len();
+        let h = 1e-12;
+        let mut biggest: f64 = 0.0;
+        let mut worst: f64 = 0.0;
+        for c in 0..size {
+            let (mut qp, mut qm) = (q.clone(), q.clone());
+            qp[c] += h;
+            qm[c] -= h;
+            let (rp, rm) = (asm.residual(&qp, mu), asm.residual(&qm, mu));
+            for i in 0..size {
+                let fd = (rp[i] - rm[i]) / (2.0 * h);
+                worst = worst.max((fd - j[(i, c)]).abs());
+                biggest = biggest.max(j[(i, c)].abs());
+            }
+        }
+        assert!(worst <= 1e-6 * biggest, "worst {worst:e} of {biggest:e}");
+        // Friction makes it unsymmetric in the closed pair's block.
+        assert!((j[(0, 2)] - j[(2, 0)]).abs() > 1e-3 * biggest);
+    }
+
+    #[test]
+    fn the_linear_law_linearises_to_k_r_plus_the_penalty_contact_matrix() {
+        let se = synthetic();
+        let asm = Assembly::new(&se, &CubicContact::default()).unwrap();
+        for mu in [MU_SE, 0.2] {
+            let j = asm.jacobian(&se.equilibrium, mu);
+            let (_, contact) = penalty_terms(&se, &se.equilibrium, mu);
+            let mut worst: f64 = 0.0;
+            for c in 0..se.header.size {
+                for i in 0..se.header.size {
+                    let expect = se.stiffness[(i, c)] + contact[(i, c)];
+                    worst = worst.max((j[(i, c)] - expect).abs());
+                }
+            }
+            // The same products in the same order up to K_r's addition: round-off of 1e8.
+            assert!(worst <= 1e-12 * 1e8, "mu {mu}: {worst:e}");
+        }
+    }
+
+    /// M = I, K = [[2, 1 - D], [1, 2]]: omega^2 = 2 +/- sqrt(1 - D) (tests/cea.rs).
+    #[test]
+    fn dense_cea_of_the_two_dof_mode_coupling_model() {
+        for d in [0.5, 0.99, 1.01, 1.5, 3.0] {
+            let k = Mat::from_fn(2, 2, |i, j| [[2.0, 1.0 - d], [1.0, 2.0]][i][j]);
+            let m = Mat::<f64>::identity(2, 2);
+            let options = DenseCeaOptions {
+                max_frequency_hz: 1.0,
+                ..Default::default()
+            };
+            let result = dense_cea(k.as_ref(), m.as_ref(), &options).unwrap();
+            let disc = Complex64::new(1.0 - d, 0.0).sqrt();
+            let exact = [2.0 + disc, 2.0 - disc].map(lambda_of);
+            assert_eq!(result.modes.len(), 2, "D = {d}");
+            for mode in &result.modes {
+                // A 2x2 QR iteration: a few eps, amplified by at most 1/|w1 - w2| = 10 at
+                // D = 0.99 and 1.01.
+                assert!(
+                    exact
+                        .iter()
+                        .any(|x| (x - mode.lambda).norm() <= 1e-13 * x.norm()),
+                    "D = {d}: {} not in {exact:?}",
+                    mode.lambda
+                );
+                assert_eq!(mode.unstable, d > 1.0 && mode.real_part > 0.0);
+                assert!(!mode.rigid_body && mode.residual < 1e-15, "{mode:?}");
+            }
+            let unstable = result.modes.iter().filter(|m| m.unstable).count();
+            assert_eq!(unstable, usize::from(d > 1.0), "D = {d}");
+            if d > 1.0 {
+                // One frequency, opposite real parts; by_frequency puts the stable first.
+                let (a, b) = (&result.modes[0], &result.modes[1]);
+                assert!((a.frequency_hz - b.frequency_hz).abs() < 1e-14);
+                assert!(a.real_part < 0.0 && b.real_part > 0.0 && b.unstable);
+            }
+        }
+    }
+
+    #[test]
+    fn dense_cea_agrees_with_qz_and_its_shapes_are_eigenvectors() {
+        let se = synthetic();
+        let asm = Assembly::new(&se, &strong_cubic(&se)).unwrap();
+        let mu = 0.9;
+        let q = asm.solve_static(mu, &StaticOptions::default()).unwrap().q;
+        let k = asm.jacobian(&q, mu);
+        let options = DenseCeaOptions {
+            max_frequency_hz: 1e9,
+            ..Default::default()
+        };
+        let result = dense_cea(k.as_ref(), se.mass.as_ref(), &options).unwrap();
+        assert_eq!(result.modes.len(), se.header.size);
+        let qz = k.generalized_eigen(&se.mass).unwrap();
+        let (alpha, beta) = (qz.S_a().column_vector(), qz.S_b().column_vector());
+        let reference: Vec<Complex64> = (0..se.header.size)
+            .map(|i| lambda_of(alpha[i] / beta[i]))
+            .collect();
+        for mode in &result.modes {
+            // Both backward stable on a matrix of condition ~1e2 (M_r's): 1e-10 relative is
+            // far above their round-off and far below any difference between modes.
+            let nearest = reference
+                .iter()
+                .map(|r| (r - mode.lambda).norm() / r.norm())
+                .fold(f64::INFINITY, f64::min);
+            assert!(nearest <= 1e-10, "{mode:?}: {nearest:e}");
+            assert!(mode.residual <= 1e-13, "{mode:?}");
+        }
+        // Sorted by frequency; shapes normalised to a largest component of 1 + 0i.
+        for w in result.modes.windows(2) {
+            assert_ne!(by_frequency(&w[0], &w[1]), std::cmp::Ordering::Greater);
+        }
+        for (mode, shape) in result.modes.iter().zip(&result.shapes) {
+            let w2 = -(mode.lambda * mode.lambda);
+            let big = shape.iter().map(|v| v.norm()).fold(0.0, f64::max);
+            assert!((big - 1.0).abs() < 1e-14);
+            let mut r2: f64 = 0.0;
+            for i in 0..se.header.size {
+                let mut v = Complex64::new(0.0, 0.0);
+                for j in 0..se.header.size {
+                    v += k[(i, j)] * shape[j] - w2 * se.mass[(i, j)] * shape[j];
+                }
+                r2 = r2.max(v.norm());
+            }
+            assert!(r2 <= 1e-12 * (1e8 + w2.norm()), "{r2:e}");
+        }
+    }
+
+    #[test]
+    fn a_free_motion_is_rigid_and_never_unstable() {
+        // Two unit masses on a spring, nothing holding them: omega^2 = 0 (round-off) and 2k.
+        let k = Mat::from_fn(2, 2, |i, j| if i == j { 1e6 } else { -1e6 });
+        let m = Mat::<f64>::identity(2, 2);
+        let r = dense_cea(k.as_ref(), m.as_ref(), &DenseCeaOptions::default()).unwrap();
+        assert_eq!(r.modes.len(), 2);
+        assert!(
+            r.modes[0].rigid_body && !r.modes[0].unstable,
+            "{:?}",
+            r.modes[0]
+        );
+        assert!(!r.modes[1].rigid_body);
+        let f = (2e6f64).sqrt() / (2.0 * PI);
+        assert!((r.modes[1].frequency_hz - f).abs() <= 1e-12 * f);
+    }
+
+    #[test]
+    fn newton_from_a_neighbouring_point() {
+        let se = synthetic();
+        let asm = Assembly::new(&se, &strong_cubic(&se)).unwrap();
+        let options = StaticOptions::default();
+        let a = asm.solve_static(0.6, &options).unwrap();
+        let b = asm.solve_static_from(&a.q, 0.7, &options).unwrap();
+        let c = asm.solve_static(0.7, &options).unwrap();
+        let gap =
+            b.q.iter()
+                .zip(&c.q)
+                .map(|(x, y)| (x - y).abs())
+                .fold(0.0, f64::max);
+        // One equilibrium, reached from two starts: agreement to the tolerance's scale.
+        assert!(gap <= 1e-12, "{gap:e}");
+        assert!(asm.solve_static_from(&a.q[1..], 0.7, &options).is_err());
+    }
+
+    #[test]
+    fn bad_input_is_refused_with_its_reason() {
+        let mut se = synthetic();
+        se.header.boundary[0].normal_force = -1.0;
+        let e = Assembly::new(&se, &CubicContact::default()).unwrap_err();
+        assert!(e.to_string().contains("boundary pair 0"), "{e}");
+        let se = synthetic();
+        let e = Assembly::new(
+            &se,
+            &CubicContact {
+                k_linear: Some(0.0),
+                k_cubic: 0.0,
+            },
+        )
+        .unwrap_err();
+        assert!(e.to_string().contains("k_l"), "{e}");
+        let m = Mat::from_fn(2, 2, |i, j| [[1.0, 2.0], [2.0, 1.0]][i][j]);
+        let e = dense_cea(m.as_ref(), m.as_ref(), &DenseCeaOptions::default()).unwrap_err();
+        assert_eq!(e, AssemblyError::MassNotPositiveDefinite);
+    }
+}
