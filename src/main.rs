@@ -133,6 +133,24 @@ enum Command {
         /// Radius of influence: grid-optimal, paper, or a length in mesh units.
         #[arg(long, default_value = "grid-optimal")]
         radius: String,
+        /// Sweep Craig-Bampton super-elements of the reduced-interface model, assembled with
+        /// node-to-node cubic contact: one made at --superelement-friction (single), one per
+        /// friction value (per-friction), or one rebuilt only when a kept contact changes
+        /// state (adaptive). Needs a reduced interface.
+        #[arg(long, value_enum)]
+        superelements: Option<StrategyArg>,
+        /// mu_SE of the single strategy (default 0.5).
+        #[arg(long)]
+        superelement_friction: Option<f64>,
+        /// Fixed-interface modes up to this frequency, Hz (default 2 x --fmax).
+        #[arg(long)]
+        cutoff: Option<f64>,
+        /// k_l of the cubic contact law, N/m (default: each pair's penalty x area).
+        #[arg(long)]
+        k_linear: Option<f64>,
+        /// k_nl of the cubic contact law, N/m^3 (default 0).
+        #[arg(long)]
+        k_cubic: Option<f64>,
     },
     /// Real modes (K phi = omega^2 M phi) of a mesh file or of the built-in brake.
     Modes {
@@ -185,6 +203,14 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+}
+
+/// The super-element strategy, as a command-line value.
+#[derive(Clone, Copy, Debug, clap::ValueEnum)]
+enum StrategyArg {
+    Single,
+    PerFriction,
+    Adaptive,
 }
 
 /// The coupling weights, as a command-line value.
@@ -313,6 +339,11 @@ fn main() -> ExitCode {
             spacing,
             weighting,
             radius,
+            superelements,
+            superelement_friction,
+            cutoff,
+            k_linear,
+            k_cubic,
         } => reduction_flags(contact_nodes_per_pad, spacing, weighting, &radius).and_then(
             |reduction| {
                 let args = study::sweep::SweepArgs {
@@ -321,6 +352,17 @@ fn main() -> ExitCode {
                     max_frequency_hz: fmax,
                     output,
                     reduction,
+                    superelements: study::sweep::SuperElementArgs {
+                        strategy: superelements.map(|s| match s {
+                            StrategyArg::Single => squeal::reduce::Strategy::Single,
+                            StrategyArg::PerFriction => squeal::reduce::Strategy::PerFriction,
+                            StrategyArg::Adaptive => squeal::reduce::Strategy::Adaptive,
+                        }),
+                        friction: superelement_friction,
+                        cutoff_hz: cutoff,
+                        k_linear,
+                        k_cubic,
+                    },
                 };
                 study::sweep::run_command(&rt, study.as_deref(), args, write_study.as_deref())
             },

@@ -23,7 +23,8 @@ pub use pair::{
     PairSettings, SlidingDirection,
 };
 pub use penalty::{
-    evaluate, point_state, summarize, PairSummary, PointContribution, PointState, PressureRange,
+    evaluate, point_state, summarize, summarize_states, PairSummary, PointContribution, PointState,
+    PressureRange,
 };
 pub use project::{project_on_face, FaceProjection, SearchOptions, SurfaceHit, SurfaceSearch};
 

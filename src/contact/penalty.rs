@@ -191,6 +191,17 @@ pub struct PairSummary {
 
 /// Totals and pressure range of `pair` for nodal displacements `u`.
 pub fn summarize(pair: &ContactPair, u: &[[f64; 3]]) -> Result<PairSummary, ContactError> {
+    let states = pair
+        .points
+        .iter()
+        .map(|point| point_state(pair, point, u))
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok(summarize_states(pair, &states))
+}
+
+/// Totals and pressure range of `pair` for given point states (one per point, in order):
+/// what another force law (the super-element assembly's cubic one) gives on the same points.
+pub fn summarize_states(pair: &ContactPair, states: &[PointState]) -> PairSummary {
     let mut summary = PairSummary {
         points: pair.points.len(),
         closed: 0,
@@ -213,15 +224,14 @@ pub fn summarize(pair: &ContactPair, u: &[[f64; 3]]) -> Result<PairSummary, Cont
         max: f64::NEG_INFINITY,
         mean: 0.0,
     };
-    for point in &pair.points {
-        let state = point_state(pair, point, u)?;
+    for (point, state) in pair.points.iter().zip(states) {
         if !state.closed {
             continue;
         }
         summary.closed += 1;
         summary.closed_area += point.area;
         summary.normal_force += state.normal_force;
-        let force = slave_force(pair, point, &state);
+        let force = slave_force(pair, point, state);
         summary.force_on_slave = add(summary.force_on_slave, force);
         if let Some(t) = point.tangent {
             let friction = scale(pair.settings.friction * state.normal_force, t);
@@ -242,7 +252,7 @@ pub fn summarize(pair: &ContactPair, u: &[[f64; 3]]) -> Result<PairSummary, Cont
     if mu_n > 0.0 {
         summary.effective_radius = summary.braking_torque / mu_n;
     }
-    Ok(summary)
+    summary
 }
 
 #[cfg(test)]

@@ -7,6 +7,7 @@ pub mod brake;
 mod error;
 #[cfg(test)]
 mod fingerprint;
+pub mod hash;
 mod model;
 pub mod structured;
 

@@ -5,7 +5,7 @@ use super::error::{check, record_error, PetscError, Result};
 use super::sys;
 use mpi::collective::SystemOperation;
 use mpi::topology::{Communicator, SimpleCommunicator};
-use mpi::traits::{AsRaw, CommunicatorCollectives};
+use mpi::traits::{AsRaw, CommunicatorCollectives, Root};
 use std::ffi::{CStr, CString};
 use std::os::raw::c_char;
 
@@ -95,6 +95,17 @@ impl<'rt> Comm<'rt> {
         let local = values.to_vec();
         self.mpi
             .all_reduce_into(&local[..], values, SystemOperation::max());
+    }
+
+    /// Rank 0's `values` on every rank, whatever their length there (collective): how a
+    /// result computed once on rank 0 (a dense reduced model's) reaches the others, so that
+    /// every rank takes the same decisions from the same bits.
+    pub fn broadcast_from_root(&self, values: &mut Vec<f64>) {
+        let root = self.mpi.process_at_rank(0);
+        let mut length = values.len() as u64;
+        root.broadcast_into(&mut length);
+        values.resize(length as usize, 0.0);
+        root.broadcast_into(&mut values[..]);
     }
 }
 

@@ -142,6 +142,10 @@ fn boundary(
 pub struct CraigBampton<'rt> {
     pub superelement: SuperElement,
     pub basis: DenseMatrix<'rt>,
+    /// The model's equations of the boundary coordinates, in super-element order.
+    pub boundary_equations: Vec<usize>,
+    /// Each boundary pair's contact point in the model: (pair index, point index).
+    pub boundary_points: Vec<(usize, usize)>,
 }
 
 /// [`build_superelement`], keeping the basis T. Collective.
@@ -426,5 +430,7 @@ fn build<'rt>(
     Ok(CraigBampton {
         superelement,
         basis: t,
+        boundary_points: boundary.points.iter().map(|&(i, k, _, _)| (i, k)).collect(),
+        boundary_equations: boundary.equations,
     })
 }

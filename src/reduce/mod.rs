@@ -16,19 +16,26 @@
 //!   triangle (Table 2) and the whole-grid optimum ([`radius_table`]).
 //! - [`superelement`]: the Craig-Bampton super-element as plain data (the contract between its
 //!   builder and the dense assembly); [`superelement_file`]: its checked file format.
+//! - [`basis`]: the basis T kept as each rank's rows, for expansions u = T q and for the
+//!   reduced coordinates of another equilibrium ([`LocalBasis`]).
+//! - [`strategy`]: which super-element serves each friction value (single, per-friction,
+//!   adaptive: rebuilt only when a kept contact changes state).
 //! - [`assembly`]: the dense super-element assembly: cubic node-to-node contact with force
 //!   matching (eq. 8), the reduced Newton static at any mu, and the dense CEA.
 
 pub mod assembly;
+pub mod basis;
 pub mod coupling;
 pub mod craig_bampton;
 mod error;
 pub mod grid;
 pub mod interface;
 pub mod radius;
+pub mod strategy;
 pub mod superelement;
 pub mod superelement_file;
 
+pub use basis::{CoordinatesError, LocalBasis};
 pub use coupling::{
     couple_grid, distributing_coupling, CouplingNode, DistributingCoupling, Weighting,
 };
@@ -39,3 +46,4 @@ pub use interface::{
     reduce_interface, InterfaceSettings, RadiusChoice, ReducedInterface, ReducedPad,
 };
 pub use radius::{radius_table, table_text, DegreeRadius, RadiusTable};
+pub use strategy::{decide, Decision, Strategy};

@@ -39,6 +39,9 @@ pub struct FullModel<'rt> {
     previous: Option<Vec<[f64; 3]>>,
     /// Where each swept pair's contact forces land on its pad surface.
     spread: Vec<SweptSurface>,
+    /// The reduced interface this model was made with (none for the full model): what a
+    /// super-element is built on.
+    pub(super) reduced: Option<reduce::ReducedInterface>,
 }
 
 /// A swept pair's pad surface: per contact point, the surface nodes its force goes to with
@@ -60,7 +63,7 @@ impl<'rt> FullModel<'rt> {
                 Some(r) => reduce::reduce_interface(&model, &r.settings())
                     .map(|reduced| {
                         let spread = reduced_spread(&reduced);
-                        (reduced.model.clone(), Some((reduced.summary(), spread)))
+                        (reduced.model.clone(), Some((spread, reduced)))
                     })
                     .map_err(|e| anyhow::anyhow!("{file}: reduction: {e}")),
             });
@@ -69,8 +72,8 @@ impl<'rt> FullModel<'rt> {
             for w in &model.warnings {
                 tracing::warn!("{w}");
             }
-            if let Some((summary, _)) = &reduction {
-                for line in summary.lines() {
+            if let Some((_, reduced)) = &reduction {
+                for line in reduced.summary().lines() {
                     tracing::info!("reduced interface: {line}");
                 }
             }
@@ -87,8 +90,9 @@ impl<'rt> FullModel<'rt> {
             ..Default::default()
         };
         let mut full = Self::new(comm, model, operators, cea, study.analysis.increments);
-        if let Some((_, spread)) = reduction {
+        if let Some((spread, reduced)) = reduction {
             full.spread = spread;
+            full.reduced = Some(reduced);
         }
         if let (Some(rayleigh), Some(matrix)) = (study.analysis.damping, damping) {
             full = full.with_damping(rayleigh, matrix);
@@ -123,6 +127,7 @@ impl<'rt> FullModel<'rt> {
             increments,
             ranks: comm.size(),
             previous: None,
+            reduced: None,
         }
     }
 
@@ -131,6 +136,68 @@ impl<'rt> FullModel<'rt> {
         self.rayleigh = Some(rayleigh);
         self.damping = Some(matrix);
         self
+    }
+
+    /// The sliding equilibrium at friction `mu` (the swept pairs'), warm-started from the
+    /// previous one this model solved, which it then becomes. Collective.
+    pub(super) fn static_at(
+        &mut self,
+        comm: Comm<'rt>,
+        mu: f64,
+    ) -> anyhow::Result<statics::StaticSolution> {
+        self.model.set_swept_friction(mu);
+        let Operators {
+            dofs,
+            stiffness,
+            load,
+            ..
+        } = &self.operators;
+        let problem = StaticProblem {
+            dofs,
+            stiffness,
+            load,
+            pairs: &self.model.pairs,
+            bodies: &self.bodies,
+        };
+        let equilibrium = statics::solve(
+            comm,
+            &problem,
+            self.previous.as_deref(),
+            &StaticOptions {
+                increments: self.increments,
+                ..Default::default()
+            },
+        )
+        .with_context(|| format!("static equilibrium at mu = {mu}"))?;
+        self.previous = Some(equilibrium.displacement.clone());
+        Ok(equilibrium)
+    }
+
+    pub(super) fn operators(&self) -> &Operators<'rt> {
+        &self.operators
+    }
+
+    /// Runs `f` on the operators with the contact tangent at `u` (every pair, the swept ones
+    /// at friction `mu`) formed in K, taken out again afterwards (see `solve_point`).
+    /// Collective.
+    pub(super) fn with_tangent<T>(
+        &mut self,
+        comm: Comm<'rt>,
+        mu: f64,
+        u: &[[f64; 3]],
+        f: impl FnOnce(&Operators<'rt>) -> anyhow::Result<T>,
+    ) -> anyhow::Result<T> {
+        self.model.set_swept_friction(mu);
+        let Operators {
+            dofs, stiffness, ..
+        } = &mut self.operators;
+        statics::add_contact_tangent(comm, stiffness, dofs, &self.model.pairs, u, 1.0)?;
+        let result = f(&self.operators);
+        let Operators {
+            dofs, stiffness, ..
+        } = &mut self.operators;
+        statics::add_contact_tangent(comm, stiffness, dofs, &self.model.pairs, u, -1.0)?;
+        result
     }
 }
 
@@ -153,6 +220,7 @@ impl<'rt> FrictionModel<'rt> for FullModel<'rt> {
             applied_load: self.model.applied_load(),
             max_frequency_hz: self.cea.max_frequency_hz,
             damping: self.rayleigh,
+            superelements: None,
         }
     }
 
@@ -163,31 +231,8 @@ impl<'rt> FrictionModel<'rt> for FullModel<'rt> {
     fn solve_point(&mut self, comm: Comm<'rt>, mu: f64) -> anyhow::Result<PointOutcome> {
         let root = comm.rank() == 0;
         let t = Instant::now();
-        self.model.set_swept_friction(mu);
-        let Operators {
-            dofs,
-            stiffness: k,
-            mass: m,
-            load,
-        } = &mut self.operators;
         let t_static = Instant::now();
-        let problem = StaticProblem {
-            dofs,
-            stiffness: k,
-            load,
-            pairs: &self.model.pairs,
-            bodies: &self.bodies,
-        };
-        let equilibrium = statics::solve(
-            comm,
-            &problem,
-            self.previous.as_deref(),
-            &StaticOptions {
-                increments: self.increments,
-                ..Default::default()
-            },
-        )
-        .with_context(|| format!("static equilibrium at mu = {mu}"))?;
+        let equilibrium = self.static_at(comm, mu)?;
         let u = &equilibrium.displacement;
         let mut contact_reports = Vec::new();
         let mut normal_total = 0.0;
@@ -197,6 +242,12 @@ impl<'rt> FrictionModel<'rt> for FullModel<'rt> {
             contact_reports.push(PairReport::new(&pair.settings.name, &s));
         }
         let static_seconds = t_static.elapsed().as_secs_f64();
+        let Operators {
+            dofs,
+            stiffness: k,
+            mass: m,
+            ..
+        } = &mut self.operators;
         tracing::debug!(
             "after the static solve: peak memory {:.0} MiB on this rank",
             peak_rss_mib()
@@ -271,9 +322,10 @@ impl<'rt> FrictionModel<'rt> for FullModel<'rt> {
             seconds: t.elapsed().as_secs_f64(),
             peak_rss_mib_max_rank: peak[0],
             peak_rss_mib_all_ranks: peak_sum[0],
+            superelement: None,
         };
-        let fields = root.then(|| self.point_fields(&equilibrium, unstable));
-        self.previous = Some(equilibrium.displacement);
+        let fields = root
+            .then(|| self.point_fields(&equilibrium.displacement, &equilibrium.contact, unstable));
         Ok(PointOutcome {
             report,
             tracking_shapes,
@@ -283,7 +335,7 @@ impl<'rt> FrictionModel<'rt> for FullModel<'rt> {
 }
 
 /// The mesh nodes' values of a field over all nodes (extra nodes are not drawn).
-fn mesh_part(mut values: Vec<[f64; 3]>, mesh: &Mesh) -> Vec<[f64; 3]> {
+pub(super) fn mesh_part(mut values: Vec<[f64; 3]>, mesh: &Mesh) -> Vec<[f64; 3]> {
     values.truncate(mesh.nodes.len());
     values
 }
@@ -340,9 +392,10 @@ fn reduced_spread(reduced: &reduce::ReducedInterface) -> Vec<SweptSurface> {
 
 impl FullModel<'_> {
     /// The static displacement, the contact map and the pad surfaces' pressure (rank 0).
-    fn point_fields(
+    pub(super) fn point_fields(
         &self,
-        equilibrium: &statics::StaticSolution,
+        displacement: &[[f64; 3]],
+        contact: &[Vec<contact::PointState>],
         unstable: Vec<UnstableShape>,
     ) -> PointFields {
         let model = &self.model;
@@ -352,7 +405,7 @@ impl FullModel<'_> {
         let mut map = ContactMap::default();
         for swept in &self.spread {
             let pair = &model.pairs[swept.pair];
-            let states = &equilibrium.contact[swept.pair];
+            let states = &contact[swept.pair];
             let mut force_on: std::collections::BTreeMap<usize, f64> = Default::default();
             for ((pt, s), nodes) in pair.points.iter().zip(states).zip(&swept.per_point) {
                 map.points.push(ContactMapPoint {
@@ -382,7 +435,7 @@ impl FullModel<'_> {
             }
         }
         // The assembly already checked every element and material.
-        let von_mises = crate::fem::stress::nodal_von_mises(&model.mesh, &equilibrium.displacement)
+        let von_mises = crate::fem::stress::nodal_von_mises(&model.mesh, displacement)
             .unwrap_or_else(|e| {
                 tracing::warn!("von Mises stress not computed: {e}");
                 vec![0.0; n]
@@ -407,7 +460,7 @@ impl FullModel<'_> {
         PointFields {
             contact: map,
             von_mises,
-            static_displacement: mesh_part(equilibrium.displacement.clone(), &model.mesh),
+            static_displacement: mesh_part(displacement.to_vec(), &model.mesh),
             contact_pressure,
             contact_closed,
             unstable,

@@ -10,9 +10,11 @@
 
 mod full;
 mod output;
+mod superelement;
 
 pub use full::FullModel;
-pub use output::{ModelInfo, PairReport, SweepPointReport};
+pub use output::{ModelInfo, PairReport, SuperElementInfo, SuperElementPoint, SweepPointReport};
+pub use superelement::{SuperElementModel, SuperElementSettings};
 
 use super::config::{ReductionSpec, Study};
 use super::report::{collective, write_atomically};
@@ -20,6 +22,7 @@ use crate::analysis::cea::ComplexMode;
 use crate::analysis::tracking::{self, Instability, SweepPoint, TrackingOptions};
 use crate::mesh::Mesh;
 use crate::petsc::{Comm, Runtime};
+use crate::reduce::Strategy;
 use num_complex::Complex64;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -141,6 +144,36 @@ pub struct SweepArgs {
     pub max_frequency_hz: Option<f64>,
     pub output: Option<PathBuf>,
     pub reduction: Option<ReductionSpec>,
+    pub superelements: SuperElementArgs,
+}
+
+/// What `squeal sweep`'s super-element flags change in the study's `[reduction]`.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct SuperElementArgs {
+    pub strategy: Option<Strategy>,
+    pub friction: Option<f64>,
+    pub cutoff_hz: Option<f64>,
+    pub k_linear: Option<f64>,
+    pub k_cubic: Option<f64>,
+}
+
+impl SuperElementArgs {
+    fn any(&self) -> bool {
+        self.strategy.is_some()
+            || self.friction.is_some()
+            || self.cutoff_hz.is_some()
+            || self.k_linear.is_some()
+            || self.k_cubic.is_some()
+    }
+
+    /// Sets the given flags in `spec`, keeping the rest.
+    fn apply(&self, spec: &mut ReductionSpec) {
+        spec.superelements = self.strategy.or(spec.superelements);
+        spec.superelement_friction = self.friction.or(spec.superelement_friction);
+        spec.cutoff_frequency_hz = self.cutoff_hz.or(spec.cutoff_frequency_hz);
+        spec.k_linear = self.k_linear.or(spec.k_linear);
+        spec.k_cubic = self.k_cubic.or(spec.k_cubic);
+    }
 }
 
 /// `squeal sweep`: the study file (or the built-in study) with the command line's changes.
@@ -179,6 +212,17 @@ pub fn run_command(
     if args.reduction.is_some() {
         study.reduction = args.reduction;
     }
+    if args.superelements.any() {
+        match study.reduction.as_mut() {
+            Some(spec) => args.superelements.apply(spec),
+            None => {
+                return Err(super::report::Collective(anyhow::anyhow!(
+                    "--superelements and its settings need a reduced interface: give --contact-nodes-per-pad or --spacing, or a [reduction] in the study"
+                ))
+                .into())
+            }
+        }
+    }
     collective(comm, study.check(Path::new(&name)))?;
     if let Some(path) = write_study {
         if comm.rank() == 0 {
@@ -193,12 +237,24 @@ pub fn run_command(
 /// Runs the sweep of a study on its full model (collective); rank 0 prints and writes.
 pub fn run(rt: &Runtime, study: &Study, file: &str) -> anyhow::Result<SweepSummary> {
     let comm = rt.world();
-    let mut model = FullModel::from_study(comm, study, file)?;
     let plan = SweepPlan {
         friction: study.analysis.friction.clone(),
         unstable_threshold: study.analysis.unstable_threshold,
         output: study.output.clone(),
     };
+    if study
+        .reduction
+        .as_ref()
+        .is_some_and(|r| r.superelements.is_some())
+    {
+        let mut model = SuperElementModel::from_study(comm, study, file)?;
+        let summary = sweep(comm, &mut model, &plan)?;
+        if comm.rank() == 0 {
+            println!("super-elements built: {}", model.built());
+        }
+        return Ok(summary);
+    }
+    let mut model = FullModel::from_study(comm, study, file)?;
     sweep(comm, &mut model, &plan)
 }
 

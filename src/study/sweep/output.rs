@@ -33,6 +33,60 @@ pub struct SweepPointReport {
     /// Peak resident memory (VmHWM) up to this point: the largest rank's and the sum, MiB.
     pub peak_rss_mib_max_rank: f64,
     pub peak_rss_mib_all_ranks: f64,
+    /// A super-element assembly's point: which super-element served it and what it cost.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub superelement: Option<SuperElementPoint>,
+}
+
+/// What the super-element assembly did at one friction value (sweep.json).
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct SuperElementPoint {
+    pub strategy: String,
+    /// Which super-element (1 = the first built in this sweep) served this point.
+    pub index: usize,
+    /// The friction value it was made at.
+    pub made_at_friction: f64,
+    /// Whether it was built at this point, and why; or why it was reused.
+    pub rebuilt: bool,
+    pub reason: String,
+    /// Reduced unknowns: 6 per boundary pair, the fixed-interface modes and the static
+    /// correction.
+    pub size: usize,
+    pub boundary: usize,
+    pub modes: usize,
+    /// The reduced-interface static at this point (0 when none was needed), s.
+    pub reduced_interface_static_seconds: f64,
+    /// Building the super-element at this point (0 when reused), s.
+    pub build_seconds: f64,
+    /// |R| / |load| of the dense static at its start: eq. 5's residual where the
+    /// super-element was made or moved to this point's equilibrium.
+    pub start_residual: f64,
+    pub dense_static_iterations: usize,
+    pub dense_static_seconds: f64,
+    pub dense_cea_seconds: f64,
+    /// Expanding the modes (u = T q) and their residuals in the reduced-interface model, s.
+    pub expansion_seconds: f64,
+    /// Per mode (the order of `eigenvalues`): |K_t u + lambda^2 M u| / (|K_t u| +
+    /// |lambda|^2 |M u|) of its expansion in the reduced-interface model, with K_t that
+    /// model's tangent at the expanded equilibrium: how far the reduced mode is from being
+    /// one of the model it stands for.
+    pub expansion_residuals: Vec<f64>,
+    /// Per mode: the relative frequency error this residual implies, an upper estimate
+    /// (see `frequency_error_estimate`): whether the reduced answer can be trusted at this
+    /// mu without the reduced-interface CEA.
+    pub frequency_error_estimates: Vec<f64>,
+}
+
+/// The super-element settings of a sweep (sweep.json's model).
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct SuperElementInfo {
+    pub strategy: String,
+    /// mu_SE of the single strategy.
+    pub friction: f64,
+    pub cutoff_hz: f64,
+    /// k_l; `None`: each pair's penalty times its area.
+    pub k_linear: Option<f64>,
+    pub k_cubic: f64,
 }
 
 impl SweepPointReport {
@@ -50,7 +104,26 @@ impl SweepPointReport {
             self.cea_seconds,
             self.seconds,
             self.peak_rss_mib_all_ranks
-        )
+        ) + &self
+            .superelement
+            .as_ref()
+            .map(|se| {
+                let worst = se
+                    .frequency_error_estimates
+                    .iter()
+                    .fold(0.0, |a: f64, &b| a.max(b));
+                format!(
+                    "; super-element #{} of size {} ({}: {}), dense static {} iterations from {:.1e}, largest estimated frequency error {:.1e}",
+                    se.index,
+                    se.size,
+                    if se.rebuilt { "built" } else { "reused" },
+                    se.reason,
+                    se.dense_static_iterations,
+                    se.start_residual,
+                    worst
+                )
+            })
+            .unwrap_or_default()
     }
 }
 
@@ -108,6 +181,8 @@ pub struct ModelInfo {
     pub applied_load: f64,
     pub max_frequency_hz: f64,
     pub damping: Option<RayleighDamping>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub superelements: Option<SuperElementInfo>,
 }
 
 impl ModelInfo {

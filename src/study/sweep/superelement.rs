@@ -1,0 +1,673 @@
+//! The dense super-element assembly swept over friction (METHOD.md §6-§7; the paper's
+//! section 4.4): at each friction value the strategy ([`Strategy`]) picks the super-element,
+//! the dense Newton static and the dense CEA run on rank 0 in faer, and every mode is expanded
+//! (u = T q) into the reduced-interface model it stands for, where its residual is measured
+//! and the unstable ones are drawn.
+//!
+//! The reduced-interface model (a [`FullModel`] with a reduced interface) is kept: the
+//! super-elements are built on it, the per-friction and adaptive strategies solve its static,
+//! and its operators measure the expanded modes. Results go through the same sweep, tracking,
+//! outputs and `squeal compare` as any other model; tracking compares the modes on the
+//! boundary coordinates (every reduced contact node and disc node), which every
+//! super-element of a sweep shares.
+
+use super::full::{mesh_part, FullModel};
+use super::output::{ModelInfo, PairReport, SuperElementInfo, SuperElementPoint};
+use super::{FrictionModel, PointOutcome, SweepPointReport, UnstableShape};
+use crate::analysis::cea::ComplexMode;
+use crate::analysis::statics::StaticSolution;
+use crate::contact::{self, PointState};
+use crate::mesh::hash;
+use crate::mesh::Mesh;
+use crate::petsc::{Comm, DenseMatrix, Vector};
+use crate::reduce::assembly::{
+    Assembly, CubicContact, DenseCeaOptions, DenseCeaResult, ReducedStatic, StaticOptions,
+};
+use crate::reduce::{self, Decision, LocalBasis, Strategy, SuperElementError};
+use crate::study::bench::peak_rss_mib;
+use crate::study::config::Study;
+use crate::study::report::collective;
+use anyhow::Context;
+use faer::Mat;
+use num_complex::Complex64;
+use std::time::Instant;
+
+/// What the super-element sweep is asked to do.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SuperElementSettings {
+    pub strategy: Strategy,
+    /// mu_SE of the single strategy.
+    pub friction: f64,
+    pub cutoff_hz: f64,
+    pub contact: CubicContact,
+    pub max_frequency_hz: f64,
+    pub unstable_threshold: f64,
+}
+
+/// The super-element in use, with what it needs to be expanded and moved.
+struct Current {
+    se: reduce::superelement::SuperElement,
+    basis: LocalBasis,
+    boundary_equations: Vec<usize>,
+    /// (pair, point) of the model for each boundary pair.
+    boundary_points: Vec<(usize, usize)>,
+    /// 1-based: the how-manieth built in this sweep.
+    index: usize,
+    made_at: f64,
+}
+
+/// A friction sweep of the super-element assembly of a reduced-interface model.
+pub struct SuperElementModel<'rt> {
+    base: FullModel<'rt>,
+    swept: Vec<usize>,
+    settings: SuperElementSettings,
+    current: Option<Current>,
+    /// The previous point's dense static (the single strategy's warm start).
+    previous_q: Option<Vec<f64>>,
+    built: usize,
+    mesh_hash: String,
+    study_hash: String,
+}
+
+/// How the point's super-element came about.
+struct Choice {
+    rebuilt: bool,
+    reason: String,
+    /// The super-element sits at this point's own equilibrium (made or moved here): the dense
+    /// static starts from it and eq. 5 says no step is needed.
+    anchored: bool,
+    reduced_static_seconds: f64,
+    build_seconds: f64,
+    static_factorizations: usize,
+}
+
+/// Rank 0's dense results, as every rank needs them.
+struct Dense {
+    /// Each mode's lambda (the CEA's, (lambda^2 M + K_t) x = 0).
+    lambdas: Vec<Complex64>,
+    q_static: Vec<f64>,
+    /// Each mode's shape in q.
+    shapes: Vec<Vec<Complex64>>,
+    /// Rank 0 only: the static and the modes.
+    root: Option<(ReducedStatic, DenseCeaResult, f64, f64, f64)>,
+}
+
+impl<'rt> SuperElementModel<'rt> {
+    /// The reduced-interface model of a study whose `[reduction]` asks for super-elements.
+    /// Collective.
+    pub fn from_study(comm: Comm<'rt>, study: &Study, file: &str) -> anyhow::Result<Self> {
+        let reduction = study
+            .reduction
+            .as_ref()
+            .filter(|r| r.superelements.is_some())
+            .ok_or_else(|| anyhow::anyhow!("{file}: reduction.superelements is not set"))?;
+        if study.analysis.damping.is_some() {
+            anyhow::bail!(
+                "{file}: analysis.damping: the super-element assembly's CEA is undamped; remove the damping or sweep the reduced-interface model (no reduction.superelements)"
+            );
+        }
+        let base = FullModel::from_study(comm, study, file)?;
+        let swept = base
+            .model
+            .swept
+            .iter()
+            .enumerate()
+            .filter_map(|(i, &s)| s.then_some(i))
+            .collect();
+        let max_frequency_hz = study.analysis.max_frequency_hz;
+        let settings = SuperElementSettings {
+            strategy: reduction.superelements.unwrap_or(Strategy::PerFriction),
+            friction: reduction.superelement_friction.unwrap_or(0.5),
+            cutoff_hz: reduction
+                .cutoff_frequency_hz
+                .unwrap_or(2.0 * max_frequency_hz),
+            contact: CubicContact {
+                k_linear: reduction.k_linear,
+                k_cubic: reduction.k_cubic.unwrap_or(0.0),
+            },
+            max_frequency_hz,
+            unstable_threshold: study.analysis.unstable_threshold,
+        };
+        let study_text = toml::to_string(study).context("the study as TOML")?;
+        Ok(SuperElementModel {
+            mesh_hash: hash::mesh_hash(&base.model.mesh),
+            study_hash: hash::text_hash(&study_text),
+            base,
+            swept,
+            settings,
+            current: None,
+            previous_q: None,
+            built: 0,
+        })
+    }
+
+    /// Super-elements built so far.
+    pub fn built(&self) -> usize {
+        self.built
+    }
+
+    /// Builds a super-element at `equilibrium` (friction `mu`) and makes it current.
+    fn build(
+        &mut self,
+        comm: Comm<'rt>,
+        equilibrium: &StaticSolution,
+        mu: f64,
+    ) -> anyhow::Result<()> {
+        let reduced = self.base.reduced.as_ref().ok_or_else(|| {
+            anyhow::anyhow!("a super-element needs a reduced interface ([reduction])")
+        })?;
+        let cb = reduce::build_with_basis(
+            comm,
+            reduced,
+            self.base.operators(),
+            &equilibrium.displacement,
+            &self.swept,
+            mu,
+            self.settings.cutoff_hz,
+        )
+        .map_err(|e: SuperElementError| anyhow::anyhow!("super-element at mu = {mu}: {e}"))?;
+        let basis = LocalBasis::from_dense(&cb.basis)?;
+        let mut se = cb.superelement;
+        se.header.mesh_hash = self.mesh_hash.clone();
+        se.header.study_hash = self.study_hash.clone();
+        self.built += 1;
+        self.current = Some(Current {
+            se,
+            basis,
+            boundary_equations: cb.boundary_equations,
+            boundary_points: cb.boundary_points,
+            index: self.built,
+            made_at: mu,
+        });
+        Ok(())
+    }
+
+    /// Moves the current super-element to another equilibrium with the same kept-contact
+    /// states: its reduced coordinates there and the swept pairs' forces (eq. 8 is matched to
+    /// them). Collective.
+    fn move_to(&mut self, comm: Comm<'rt>, equilibrium: &StaticSolution) -> anyhow::Result<()> {
+        let operators = self.base.operators();
+        let model = &self.base.model;
+        let current = self
+            .current
+            .as_mut()
+            .ok_or_else(|| anyhow::anyhow!("no super-element to move"))?;
+        let dofs = &operators.dofs;
+        let mut u = vec![0.0; dofs.equations()];
+        for (node, d) in equilibrium.displacement.iter().enumerate() {
+            for (c, &v) in d.iter().enumerate() {
+                if let Some(eq) = dofs.equation(node, c) {
+                    u[eq] = v;
+                }
+            }
+        }
+        let q = current.basis.coordinates(
+            comm,
+            &current.se,
+            &current.boundary_equations,
+            &operators.mass,
+            &u,
+        )?;
+        current.se.equilibrium = q;
+        for (pair, &(i, k)) in current
+            .se
+            .header
+            .boundary
+            .iter_mut()
+            .zip(&current.boundary_points)
+        {
+            let p = &model.pairs[i];
+            pair.normal_force =
+                contact::point_state(p, &p.points[k], &equilibrium.displacement)?.normal_force;
+        }
+        Ok(())
+    }
+
+    /// The kept (non-swept) pairs' states at an equilibrium.
+    fn kept_states(&self, equilibrium: &StaticSolution) -> Vec<(String, Vec<bool>)> {
+        self.base
+            .model
+            .pairs
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| !self.swept.contains(i))
+            .map(|(i, p)| {
+                (
+                    p.settings.name.clone(),
+                    equilibrium.contact[i].iter().map(|s| s.closed).collect(),
+                )
+            })
+            .collect()
+    }
+
+    /// The strategy's super-element for friction `mu`. Collective.
+    fn choose(&mut self, comm: Comm<'rt>, mu: f64) -> anyhow::Result<Choice> {
+        let mut choice = Choice {
+            rebuilt: false,
+            reason: String::new(),
+            anchored: false,
+            reduced_static_seconds: 0.0,
+            build_seconds: 0.0,
+            static_factorizations: 0,
+        };
+        let at = match self.settings.strategy {
+            Strategy::Single if self.current.is_some() => {
+                choice.reason = format!(
+                    "single: the super-element made at mu_SE = {}",
+                    self.settings.friction
+                );
+                return Ok(choice);
+            }
+            Strategy::Single => self.settings.friction,
+            Strategy::PerFriction | Strategy::Adaptive => mu,
+        };
+        let t = Instant::now();
+        let equilibrium = self
+            .base
+            .static_at(comm, at)
+            .context("the reduced-interface static a super-element is made at")?;
+        choice.reduced_static_seconds = t.elapsed().as_secs_f64();
+        choice.static_factorizations = equilibrium
+            .increments
+            .iter()
+            .map(|i| i.factorizations)
+            .sum();
+        let decision = match self.settings.strategy {
+            Strategy::Single => Decision::Rebuild(format!("single: made at mu_SE = {at}")),
+            Strategy::PerFriction => Decision::Rebuild("per-friction: made at this mu".into()),
+            Strategy::Adaptive => {
+                let now = self.kept_states(&equilibrium);
+                reduce::decide(
+                    self.current
+                        .as_ref()
+                        .map(|c| &c.se.header.other_contacts[..]),
+                    &now,
+                )
+            }
+        };
+        let t = Instant::now();
+        match decision {
+            Decision::Rebuild(why) => {
+                self.build(comm, &equilibrium, at)?;
+                choice.rebuilt = true;
+                choice.reason = why;
+            }
+            Decision::Reuse => {
+                self.move_to(comm, &equilibrium)?;
+                choice.reason =
+                    "adaptive: no kept contact changed state; moved to this mu's equilibrium"
+                        .into();
+            }
+        }
+        choice.build_seconds = t.elapsed().as_secs_f64();
+        // Single: made at mu_SE, which is this point only when mu = mu_SE.
+        choice.anchored = at == mu;
+        Ok(choice)
+    }
+
+    /// The dense static and CEA on rank 0, broadcast. Collective.
+    fn dense(&self, comm: Comm<'rt>, mu: f64, anchored: bool) -> anyhow::Result<Dense> {
+        let current = self
+            .current
+            .as_ref()
+            .ok_or_else(|| anyhow::anyhow!("no super-element"))?;
+        let se = &current.se;
+        let n = se.header.size;
+        let mut payload = Vec::new();
+        let mut root = None;
+        let local = if comm.rank() == 0 {
+            let run = || -> anyhow::Result<_> {
+                let assembly = Assembly::new(se, &self.settings.contact)?;
+                let start = match (&self.previous_q, anchored) {
+                    (Some(q), false) => q.as_slice(),
+                    _ => se.equilibrium.as_slice(),
+                };
+                let start_residual = {
+                    let r = assembly.residual(start, mu);
+                    let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+                    norm(&r) / norm(&se.load)
+                };
+                let t = Instant::now();
+                let statics = assembly.solve_static_from(start, mu, &StaticOptions::default())?;
+                let static_seconds = t.elapsed().as_secs_f64();
+                let t = Instant::now();
+                let cea = assembly.cea(
+                    &statics.q,
+                    mu,
+                    &DenseCeaOptions {
+                        max_frequency_hz: self.settings.max_frequency_hz,
+                        unstable_threshold: self.settings.unstable_threshold,
+                    },
+                )?;
+                Ok((
+                    statics,
+                    cea,
+                    start_residual,
+                    static_seconds,
+                    t.elapsed().as_secs_f64(),
+                ))
+            };
+            match run() {
+                Ok(r) => {
+                    // [1, m, each mode's lambda (re, im), q_static, then per mode its
+                    // shape's real and imaginary parts].
+                    payload.push(1.0);
+                    payload.push(r.1.shapes.len() as f64);
+                    for mode in &r.1.modes {
+                        payload.extend([mode.lambda.re, mode.lambda.im]);
+                    }
+                    payload.extend_from_slice(&r.0.q);
+                    for shape in &r.1.shapes {
+                        payload.extend(shape.iter().map(|z| z.re));
+                        payload.extend(shape.iter().map(|z| z.im));
+                    }
+                    root = Some(r);
+                    Ok(())
+                }
+                Err(e) => {
+                    payload.push(0.0);
+                    Err(e.context(format!("super-element assembly at mu = {mu}")))
+                }
+            }
+        } else {
+            Ok(())
+        };
+        comm.broadcast_from_root(&mut payload);
+        let local = local.and_then(|()| {
+            if payload.first() == Some(&1.0) {
+                Ok(())
+            } else {
+                Err(anyhow::anyhow!(
+                    "the super-element assembly failed on rank 0"
+                ))
+            }
+        });
+        collective(comm, local)?;
+        let m = payload[1] as usize;
+        let lambdas = (0..m)
+            .map(|j| Complex64::new(payload[2 + 2 * j], payload[3 + 2 * j]))
+            .collect();
+        let first = 2 + 2 * m;
+        let q_static = payload[first..first + n].to_vec();
+        let shapes = (0..m)
+            .map(|j| {
+                let at = first + n + 2 * n * j;
+                (0..n)
+                    .map(|i| Complex64::new(payload[at + i], payload[at + n + i]))
+                    .collect()
+            })
+            .collect();
+        Ok(Dense {
+            lambdas,
+            q_static,
+            shapes,
+            root,
+        })
+    }
+}
+
+impl<'rt> FrictionModel<'rt> for SuperElementModel<'rt> {
+    fn info(&self) -> ModelInfo {
+        let mut info = self.base.info();
+        let s = &self.settings;
+        info.superelements = Some(SuperElementInfo {
+            strategy: s.strategy.name().into(),
+            friction: s.friction,
+            cutoff_hz: s.cutoff_hz,
+            k_linear: s.contact.k_linear,
+            k_cubic: s.contact.k_cubic,
+        });
+        info.source = format!(
+            "{} ({} super-elements, modes to {} Hz)",
+            info.source,
+            s.strategy.name(),
+            s.cutoff_hz
+        );
+        info
+    }
+
+    fn mesh(&self) -> &Mesh {
+        self.base.mesh()
+    }
+
+    fn solve_point(&mut self, comm: Comm<'rt>, mu: f64) -> anyhow::Result<PointOutcome> {
+        let root = comm.rank() == 0;
+        let t = Instant::now();
+        let choice = self.choose(comm, mu)?;
+        let dense = self.dense(comm, mu, choice.anchored)?;
+        self.previous_q = Some(dense.q_static.clone());
+
+        // Expansion (u = T q) of the static and every mode, and each mode's residual in the
+        // reduced-interface model.
+        let t_expand = Instant::now();
+        let current = self.current.as_ref().expect("chosen above");
+        let n = current.se.header.size;
+        let m = dense.shapes.len();
+        let q = Mat::from_fn(n, 1 + 2 * m, |i, c| match c {
+            0 => dense.q_static[i],
+            c if c % 2 == 1 => dense.shapes[(c - 1) / 2][i].re,
+            c => dense.shapes[(c - 1) / 2][i].im,
+        });
+        let expanded = current.basis.expand(q.as_ref());
+        let rows = current.basis.rows();
+        let local_rows = rows.len();
+        let column = |c: usize| -> Vec<f64> { (0..local_rows).map(|i| expanded[(i, c)]).collect() };
+        let mut static_vector = Vector::new(comm, local_rows)?;
+        static_vector.set_local(&column(0))?;
+        let u_static = self
+            .base
+            .operators()
+            .dofs
+            .displacements(&static_vector.gather_all()?);
+        let residuals = {
+            let mut shapes = DenseMatrix::zeros(comm, local_rows, 2 * m.max(1))?;
+            shapes.write_local(|i, c| if c < 2 * m { expanded[(i, c + 1)] } else { 0.0 })?;
+            let (ku, mu_shapes, diagonal) =
+                self.base.with_tangent(comm, mu, &u_static, |operators| {
+                    let ku = operators.stiffness.mult_dense(&shapes)?.local_values()?;
+                    let mu_shapes = operators.mass.mult_dense(&shapes)?.local_values()?;
+                    let diagonal = operators.mass.diagonal()?.read()?.to_vec();
+                    Ok((ku, mu_shapes, diagonal))
+                })?;
+            // Per mode, in the mass-weighted norms of structural dynamics (D = diag M):
+            // eps = |r|_D^-1 / (|lambda|^2 |u|_D), the share of the mode's inertia force left
+            // unbalanced in the reduced-interface model. The reduced contact and disc nodes
+            // carry no mass (D = 0): their rows, the ties' static balance, are left out.
+            // (The Euclidean residual is useless here: the stiff ties' rows dominate it.)
+            let mut sums = vec![0.0; 2 * m];
+            for j in 0..m {
+                let l2 = dense.lambdas[j].powi(2);
+                for (i, &d) in diagonal.iter().enumerate().filter(|(_, &d)| d > 0.0) {
+                    let k = Complex64::new(ku[(i, 2 * j)], ku[(i, 2 * j + 1)]);
+                    let mm = Complex64::new(mu_shapes[(i, 2 * j)], mu_shapes[(i, 2 * j + 1)]);
+                    let u = Complex64::new(expanded[(i, 1 + 2 * j)], expanded[(i, 2 + 2 * j)]);
+                    sums[2 * j] += (k + l2 * mm).norm_sqr() / d;
+                    sums[2 * j + 1] += d * u.norm_sqr();
+                }
+            }
+            comm.sum_in_place(&mut sums);
+            (0..m)
+                .map(|j| {
+                    sums[2 * j].sqrt() / (dense.lambdas[j].norm_sqr() * sums[2 * j + 1].sqrt())
+                })
+                .collect::<Vec<f64>>()
+        };
+
+        // Unstable shapes on the mesh (rank 0); the flags travel with the eigenvalues.
+        let mut flags = vec![0.0; m];
+        if let Some((_, cea, ..)) = &dense.root {
+            for (f, mode) in flags.iter_mut().zip(&cea.modes) {
+                *f = if mode.unstable { 1.0 } else { 0.0 };
+            }
+        }
+        comm.broadcast_from_root(&mut flags);
+        let mut unstable = Vec::new();
+        for (j, &flag) in flags.iter().enumerate() {
+            if flag != 1.0 {
+                continue;
+            }
+            let mut parts = Vec::with_capacity(2);
+            for c in [1 + 2 * j, 2 + 2 * j] {
+                let mut v = Vector::new(comm, local_rows)?;
+                v.set_local(&column(c))?;
+                parts.push(v.gather_to_zero()?);
+            }
+            if let Some((_, cea, ..)) = &dense.root {
+                let mesh = &self.base.model.mesh;
+                let dofs = &self.base.operators().dofs;
+                unstable.push(UnstableShape {
+                    mode: cea.modes[j].clone(),
+                    re: mesh_part(dofs.displacements(&parts[0]), mesh),
+                    im: mesh_part(dofs.displacements(&parts[1]), mesh),
+                });
+            }
+        }
+        let expansion_seconds = t_expand.elapsed().as_secs_f64();
+
+        let mut peak = [peak_rss_mib()];
+        let mut peak_sum = peak;
+        comm.max_in_place(&mut peak);
+        comm.sum_in_place(&mut peak_sum);
+
+        let model = &self.base.model;
+        let n_b = current.se.boundary_size();
+        let (report, tracking_shapes, fields) = match &dense.root {
+            Some((statics, cea, start_residual, static_seconds, cea_seconds)) if root => {
+                // Contact states: the swept pairs' from the dense laws, the others' from the
+                // penalty law at the expanded equilibrium.
+                let mut states: Vec<Vec<PointState>> = model
+                    .pairs
+                    .iter()
+                    .map(|p| {
+                        p.points
+                            .iter()
+                            .map(|pt| contact::point_state(p, pt, &u_static))
+                            .collect::<Result<_, _>>()
+                    })
+                    .collect::<Result<_, _>>()?;
+                for (state, &(i, k)) in statics.pairs.iter().zip(&current.boundary_points) {
+                    let area = model.pairs[i].points[k].area;
+                    states[i][k] = PointState {
+                        gap: -state.approach,
+                        normal_force: state.force,
+                        pressure: if area > 0.0 { state.force / area } else { 0.0 },
+                        closed: state.closed,
+                    };
+                }
+                let mut normal_total = 0.0;
+                let contact_reports = model
+                    .pairs
+                    .iter()
+                    .zip(&states)
+                    .map(|(p, s)| {
+                        let summary = contact::summarize_states(p, s);
+                        normal_total += summary.normal_force;
+                        PairReport::new(&p.settings.name, &summary)
+                    })
+                    .collect();
+                let applied = model.applied_load();
+                let report = SweepPointReport {
+                    friction: mu,
+                    static_iterations: statics.iterations,
+                    static_factorizations: choice.static_factorizations,
+                    static_residuals: statics.residual_history.clone(),
+                    cutbacks: 0,
+                    contact: contact_reports,
+                    balance_ratio: if applied > 0.0 {
+                        normal_total / applied
+                    } else {
+                        0.0
+                    },
+                    eigenvalues: cea.modes.clone(),
+                    static_seconds: choice.reduced_static_seconds + static_seconds,
+                    cea_seconds: *cea_seconds,
+                    cea_shifts: 0,
+                    seconds: t.elapsed().as_secs_f64(),
+                    peak_rss_mib_max_rank: peak[0],
+                    peak_rss_mib_all_ranks: peak_sum[0],
+                    superelement: Some(SuperElementPoint {
+                        strategy: self.settings.strategy.name().into(),
+                        index: current.index,
+                        made_at_friction: current.made_at,
+                        rebuilt: choice.rebuilt,
+                        reason: choice.reason.clone(),
+                        size: n,
+                        boundary: n_b,
+                        modes: current.se.header.modes,
+                        reduced_interface_static_seconds: choice.reduced_static_seconds,
+                        build_seconds: choice.build_seconds,
+                        start_residual: *start_residual,
+                        dense_static_iterations: statics.iterations,
+                        dense_static_seconds: *static_seconds,
+                        dense_cea_seconds: *cea_seconds,
+                        expansion_seconds,
+                        frequency_error_estimates: cea
+                            .modes
+                            .iter()
+                            .zip(&residuals)
+                            .map(|(mode, &eps)| {
+                                frequency_error_estimate(
+                                    eps,
+                                    mode.frequency_hz,
+                                    self.settings.cutoff_hz,
+                                )
+                            })
+                            .collect(),
+                        expansion_residuals: residuals,
+                    }),
+                };
+                let tracking: Vec<Vec<Complex64>> =
+                    dense.shapes.iter().map(|s| s[..n_b].to_vec()).collect();
+                let fields = self.base.point_fields(&u_static, &states, unstable);
+                (report, tracking, Some(fields))
+            }
+            _ => (
+                empty_report(mu, t.elapsed().as_secs_f64(), peak[0], peak_sum[0]),
+                Vec::new(),
+                None,
+            ),
+        };
+        Ok(PointOutcome {
+            report,
+            tracking_shapes,
+            fields,
+        })
+    }
+}
+
+/// The relative frequency error of a Rayleigh-Ritz mode at f whose expansion leaves the
+/// mass-weighted residual eps, when what the basis misses lies above f_c: with the error e
+/// of the shape in modes at omega_e >= omega_c, r = (omega_e^2 - omega^2) M e, so
+/// |r|_M^-1 = eps omega^2 |u|_M gives |e|_M, and the Rayleigh quotient's error
+/// delta(omega^2) = (omega_e^2 - omega^2) |e|_M^2 <= eps^2 omega^4 / (omega_c^2 - omega^2).
+/// Half of that relative to omega^2 is the frequency's. An upper estimate (the missing
+/// content sits at or above f_c), first-order only where friction makes the problem
+/// non-self-adjoint; infinite for a mode at or above the cut-off.
+pub fn frequency_error_estimate(eps: f64, frequency_hz: f64, cutoff_hz: f64) -> f64 {
+    let (f2, c2) = (frequency_hz * frequency_hz, cutoff_hz * cutoff_hz);
+    if c2 <= f2 {
+        return f64::INFINITY;
+    }
+    0.5 * eps * eps * f2 / (c2 - f2)
+}
+
+/// A non-root rank's report: nothing it holds is written.
+fn empty_report(mu: f64, seconds: f64, peak: f64, peak_sum: f64) -> SweepPointReport {
+    SweepPointReport {
+        friction: mu,
+        static_iterations: 0,
+        static_factorizations: 0,
+        static_residuals: Vec::new(),
+        cutbacks: 0,
+        contact: Vec::new(),
+        balance_ratio: 0.0,
+        eigenvalues: Vec::<ComplexMode>::new(),
+        static_seconds: 0.0,
+        cea_seconds: 0.0,
+        cea_shifts: 0,
+        seconds,
+        peak_rss_mib_max_rank: peak,
+        peak_rss_mib_all_ranks: peak_sum,
+        superelement: None,
+    }
+}
