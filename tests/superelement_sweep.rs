@@ -1,0 +1,226 @@
+//! `squeal sweep --superelements ...` on the built-in brake, run as a user runs it (under
+//! mpirun): the three strategies against each other and against the reduced-interface model
+//! they stand for, eq. 5 at every point a super-element is made or moved to, the error
+//! estimate of the expanded modes, 1 against 2 ranks, and bad settings.
+//!
+//! The built-in brake has no contact besides the swept disc/pad pairs, and the default cubic
+//! law is the penalty law itself (k_l = penalty x area, k_nl = 0). Then a super-element does
+//! not depend on mu at all (the swept contact is removed from it, nothing else changes), the
+//! reduced-interface equilibrium at any mu lies in its span, and the three strategies must
+//! give the same modes to the round-off of the solves; the adaptive one must build one
+//! super-element for the whole sweep.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+
+fn squeal() -> &'static Path {
+    Path::new(env!("CARGO_BIN_EXE_squeal"))
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("squeal-se-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn success(ranks: usize, args: &[&str]) {
+    let run = common::mpirun(ranks, squeal(), args);
+    assert!(run.status.success(), "{}", common::text(&run));
+}
+
+fn failure(args: &[&str]) -> String {
+    let run = common::mpirun(2, squeal(), args);
+    assert!(!common::hung(&run), "{}", common::text(&run));
+    assert!(!run.status.success(), "{}", common::text(&run));
+    let stderr = String::from_utf8_lossy(&run.stderr).to_string();
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    stderr
+}
+
+fn sweep_json(dir: &Path) -> serde_json::Value {
+    serde_json::from_slice(&std::fs::read(dir.join("sweep.json")).unwrap()).unwrap()
+}
+
+/// Per point, its frequencies (Hz).
+fn frequencies(json: &serde_json::Value) -> Vec<Vec<f64>> {
+    json["points"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| {
+            p["eigenvalues"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|m| m["frequency_hz"].as_f64().unwrap())
+                .collect()
+        })
+        .collect()
+}
+
+fn largest_difference(a: &[Vec<f64>], b: &[Vec<f64>]) -> f64 {
+    assert_eq!(a.len(), b.len());
+    let mut worst: f64 = 0.0;
+    for (pa, pb) in a.iter().zip(b) {
+        assert_eq!(pa.len(), pb.len(), "{pa:?} against {pb:?}");
+        for (x, y) in pa.iter().zip(pb) {
+            worst = worst.max((x - y).abs() / y);
+        }
+    }
+    worst
+}
+
+const COMMON: [&str; 9] = [
+    "sweep",
+    "--preset",
+    "tiny",
+    "--friction",
+    "0.3,0.7",
+    "--fmax",
+    "4000",
+    "--contact-nodes-per-pad",
+    "6",
+];
+
+fn run(ranks: usize, dir: &Path, name: &str, extra: &[&str]) -> serde_json::Value {
+    let out = dir.join(name);
+    let mut args: Vec<&str> = COMMON.to_vec();
+    args.extend_from_slice(extra);
+    args.extend_from_slice(&["-o", out.to_str().unwrap()]);
+    success(ranks, &args);
+    sweep_json(&out)
+}
+
+#[test]
+fn strategies_agree_and_stand_for_the_reduced_interface_model() {
+    let dir = scratch("strategies");
+    let cutoff = ["--cutoff", "15000"];
+    let reduced = run(2, &dir, "reduced", &[]);
+    let per_friction = run(
+        2,
+        &dir,
+        "per-friction",
+        &[&["--superelements", "per-friction"][..], &cutoff].concat(),
+    );
+    let single = run(
+        2,
+        &dir,
+        "single",
+        &[&["--superelements", "single"][..], &cutoff].concat(),
+    );
+    let adaptive_2 = run(
+        2,
+        &dir,
+        "adaptive-2",
+        &[&["--superelements", "adaptive"][..], &cutoff].concat(),
+    );
+    let adaptive_1 = run(
+        1,
+        &dir,
+        "adaptive-1",
+        &[&["--superelements", "adaptive"][..], &cutoff].concat(),
+    );
+
+    // Which super-element served each point, and eq. 5 where one was made or moved.
+    let se = |json: &serde_json::Value, point: usize, key: &str| {
+        json["points"][point]["superelement"][key].clone()
+    };
+    for point in 0..2 {
+        assert_eq!(se(&per_friction, point, "rebuilt"), true);
+        assert_eq!(se(&per_friction, point, "index"), point + 1);
+        // The reduced-interface static stops at |R| <= 1e-10 |F| (SNES rtol); the
+        // super-element's own residual there is that, projected: eq. 5 to the solve's
+        // tolerance, with margin for the projection's round-off.
+        for json in [&per_friction, &adaptive_2] {
+            let start = se(json, point, "start_residual").as_f64().unwrap();
+            assert!(start < 1e-9, "eq. 5 at point {point}: {start:e}");
+        }
+    }
+    assert_eq!(se(&adaptive_2, 0, "rebuilt"), true);
+    assert_eq!(se(&adaptive_2, 1, "rebuilt"), false);
+    assert_eq!(se(&adaptive_2, 1, "index"), 1);
+    assert_eq!(se(&single, 1, "index"), 1);
+    assert_eq!(se(&single, 0, "made_at_friction"), 0.5);
+
+    // The three strategies: the same modes (measured 4e-13; the dense Newton of the single
+    // strategy stops at 1e-10 of the load, which moves the linearisation by as little).
+    let f_pf = frequencies(&per_friction);
+    for (name, json) in [("single", &single), ("adaptive", &adaptive_2)] {
+        let d = largest_difference(&frequencies(json), &f_pf);
+        assert!(d < 1e-8, "{name} against per-friction: {d:e}");
+    }
+    // 1 against 2 ranks (measured 4e-12).
+    let d = largest_difference(&frequencies(&adaptive_1), &frequencies(&adaptive_2));
+    assert!(d < 1e-8, "1 against 2 ranks: {d:e}");
+
+    // Against the reduced-interface model: the truncation error (15 kHz for a 4 kHz band:
+    // measured at most 4e-3), and each mode within its own error estimate, an upper estimate
+    // (measured 5 to 40 times the error).
+    let f_red = frequencies(&reduced);
+    let d = largest_difference(&f_pf, &f_red);
+    assert!(
+        d < 1e-2,
+        "per-friction against the reduced interface: {d:e}"
+    );
+    for (point, (pse, pred)) in f_pf.iter().zip(&f_red).enumerate() {
+        let estimates = se(&per_friction, point, "frequency_error_estimates");
+        for (j, (x, y)) in pse.iter().zip(pred).enumerate() {
+            let error = (x - y).abs() / y;
+            let estimate = estimates[j].as_f64().unwrap();
+            assert!(
+                error <= estimate,
+                "point {point}, mode {j} at {y:.1} Hz: error {error:e} above its estimate {estimate:e}"
+            );
+        }
+    }
+    // The outputs a reduced-interface sweep writes, fields included.
+    for file in ["cea.json", "cea.vtu", "contact.json"] {
+        assert!(dir.join("single/mu_0.700").join(file).is_file(), "{file}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn bad_superelement_settings_name_the_flag_or_the_key() {
+    let dir = scratch("bad");
+    let out = dir.join("out");
+    let o = out.to_str().unwrap();
+    let stderr = failure(&[
+        "sweep",
+        "--preset",
+        "tiny",
+        "--superelements",
+        "single",
+        "-o",
+        o,
+    ]);
+    assert!(stderr.contains("--contact-nodes-per-pad"), "{stderr}");
+    let stderr = failure(&[
+        "sweep",
+        "--preset",
+        "tiny",
+        "--contact-nodes-per-pad",
+        "6",
+        "--superelements",
+        "single",
+        "--k-cubic=-1",
+        "-o",
+        o,
+    ]);
+    assert!(stderr.contains("reduction.k_cubic"), "{stderr}");
+    let study = dir.join("study.toml");
+    std::fs::write(
+        &study,
+        "[mesh]\npreset = \"tiny\"\n[reduction]\ncontact_nodes_per_pad = 6\nk_linear = 1e6\n",
+    )
+    .unwrap();
+    let stderr = failure(&["sweep", study.to_str().unwrap(), "-o", o]);
+    assert!(
+        stderr.contains("reduction.k_linear") && stderr.contains("superelements"),
+        "{stderr}"
+    );
+    assert!(!out.exists(), "a failed run wrote {}", out.display());
+    let _ = std::fs::remove_dir_all(&dir);
+}
