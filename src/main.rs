@@ -195,6 +195,63 @@ enum Command {
         #[arg(short, long, default_value = "squeal-compare")]
         output: PathBuf,
     },
+    /// Build the Craig-Bampton super-element of a reduced-interface model at one friction
+    /// value and write it to a file that `squeal assemble` runs from without the mesh.
+    Superelement {
+        /// A study file (TOML); the built-in brake study when absent.
+        study: Option<PathBuf>,
+        /// Built-in brake preset (when no study file, or to override its preset).
+        #[arg(long)]
+        preset: Option<String>,
+        /// The band of the study (Hz): modes are kept to --cutoff, 2 x this by default.
+        #[arg(long)]
+        fmax: Option<f64>,
+        /// Reduced contact nodes per pad (the paper's 6, 22, 52, 106).
+        #[arg(long, conflicts_with = "spacing")]
+        contact_nodes_per_pad: Option<usize>,
+        /// Or an isometric grid of this side (mesh units).
+        #[arg(long)]
+        spacing: Option<f64>,
+        /// Distributing coupling weights of the reduced interface.
+        #[arg(long, value_enum, default_value = "cubic")]
+        weighting: WeightingArg,
+        /// Radius of influence: grid-optimal, paper, or a length in mesh units.
+        #[arg(long, default_value = "grid-optimal")]
+        radius: String,
+        /// mu_SE: the friction value it is made at (default 0.5).
+        #[arg(long)]
+        superelement_friction: Option<f64>,
+        /// Fixed-interface modes up to this frequency, Hz (default 2 x --fmax).
+        #[arg(long)]
+        cutoff: Option<f64>,
+        /// The super-element file to write.
+        #[arg(short, long, default_value = "superelement.sqse")]
+        output: PathBuf,
+    },
+    /// The dense super-element assembly from a super-element file alone (no mesh): the
+    /// cubic-contact static and the CEA at each friction value; assemble.json.
+    Assemble {
+        /// A file written by `squeal superelement`.
+        file: PathBuf,
+        /// Friction values, e.g. 0.1,0.3,0.5 (default 0.1 to 0.9 by 0.1).
+        #[arg(long, value_delimiter = ',', default_values_t = [0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9])]
+        friction: Vec<f64>,
+        /// Every mode from 0 up to this frequency (Hz).
+        #[arg(long, default_value_t = 6000.0)]
+        fmax: f64,
+        /// Real part (1/s) above which a mode is unstable.
+        #[arg(long, default_value_t = squeal::analysis::cea::CeaOptions::default().unstable_threshold)]
+        unstable_threshold: f64,
+        /// k_l of the cubic contact law, N/m (default: each pair's penalty x area).
+        #[arg(long)]
+        k_linear: Option<f64>,
+        /// k_nl of the cubic contact law, N/m^3.
+        #[arg(long, default_value_t = 0.0)]
+        k_cubic: f64,
+        /// Output folder (assemble.json).
+        #[arg(short, long, default_value = "squeal-out")]
+        output: PathBuf,
+    },
     /// The optimal radius of influence of the distributing coupling per weighting degree, in
     /// units of the grid side: the paper's Table 2 recomputed from its definition, and the
     /// radius that evens the load over the whole grid. Needs no MPI.
@@ -297,6 +354,52 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Info { json } => study::info::run(&rt, json),
         Command::Radius { .. } => unreachable!("answered before the runtime starts"),
+        Command::Superelement {
+            study,
+            preset,
+            fmax,
+            contact_nodes_per_pad,
+            spacing,
+            weighting,
+            radius,
+            superelement_friction,
+            cutoff,
+            output,
+        } => reduction_flags(contact_nodes_per_pad, spacing, weighting, &radius).and_then(
+            |reduction| {
+                let args = study::sweep::SweepArgs {
+                    preset,
+                    max_frequency_hz: fmax,
+                    reduction,
+                    superelements: study::sweep::SuperElementArgs {
+                        friction: superelement_friction,
+                        cutoff_hz: cutoff,
+                        ..Default::default()
+                    },
+                    ..Default::default()
+                };
+                study::sweep::superelement_command(&rt, study.as_deref(), args, &output)
+            },
+        ),
+        Command::Assemble {
+            file,
+            friction,
+            fmax,
+            unstable_threshold,
+            k_linear,
+            k_cubic,
+            output,
+        } => study::assemble::run(
+            &rt,
+            &study::assemble::AssembleArgs {
+                file,
+                friction,
+                max_frequency_hz: fmax,
+                unstable_threshold,
+                contact: squeal::reduce::assembly::CubicContact { k_linear, k_cubic },
+                output,
+            },
+        ),
         Command::Compare {
             reference,
             others,

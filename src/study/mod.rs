@@ -1,5 +1,6 @@
 //! What a user asks for: one function per subcommand, called by `main.rs`.
 
+pub mod assemble;
 pub mod bench;
 pub mod blas;
 pub mod cea;

@@ -176,15 +176,13 @@ impl SuperElementArgs {
     }
 }
 
-/// `squeal sweep`: the study file (or the built-in study) with the command line's changes.
-/// Collective.
-pub fn run_command(
-    rt: &Runtime,
+/// The study a command runs: the study file (or the built-in study) with the command
+/// line's changes, checked. Collective.
+pub fn study_from_args(
+    comm: Comm<'_>,
     file: Option<&Path>,
     args: SweepArgs,
-    write_study: Option<&Path>,
-) -> anyhow::Result<()> {
-    let comm = rt.world();
+) -> anyhow::Result<(Study, String)> {
     let (mut study, name) = match file {
         Some(path) => (
             collective(comm, Study::read(path))?,
@@ -224,6 +222,19 @@ pub fn run_command(
         }
     }
     collective(comm, study.check(Path::new(&name)))?;
+    Ok((study, name))
+}
+
+/// `squeal sweep`: the study file (or the built-in study) with the command line's changes.
+/// Collective.
+pub fn run_command(
+    rt: &Runtime,
+    file: Option<&Path>,
+    args: SweepArgs,
+    write_study: Option<&Path>,
+) -> anyhow::Result<()> {
+    let comm = rt.world();
+    let (study, name) = study_from_args(comm, file, args)?;
     if let Some(path) = write_study {
         if comm.rank() == 0 {
             write_atomically(path, toml::to_string_pretty(&study)?.as_bytes())?;
@@ -232,6 +243,45 @@ pub fn run_command(
         return Ok(());
     }
     run(rt, &study, &name).map(|_| ())
+}
+
+/// `squeal superelement`: builds the super-element of a study's reduced interface at its
+/// `superelement_friction` and writes it to `output`, from which `squeal assemble` runs
+/// without the mesh. Collective; rank 0 writes.
+pub fn superelement_command(
+    rt: &Runtime,
+    file: Option<&Path>,
+    mut args: SweepArgs,
+    output: &Path,
+) -> anyhow::Result<()> {
+    let comm = rt.world();
+    args.superelements.strategy = Some(args.superelements.strategy.unwrap_or(Strategy::Single));
+    let (study, name) = study_from_args(comm, file, args)?;
+    let started = Instant::now();
+    let mut model = SuperElementModel::from_study(comm, &study, &name)?;
+    let mu = model.settings().friction;
+    let se = model.make(comm, mu)?;
+    let written = if comm.rank() == 0 {
+        crate::reduce::superelement_file::write(output, se).map_err(anyhow::Error::from)
+    } else {
+        Ok(())
+    };
+    collective(comm, written)?;
+    if comm.rank() == 0 {
+        let h = &se.header;
+        println!(
+            "super-element at mu = {mu}: {} boundary pairs ({} equations), {} fixed-interface modes below {} Hz, size {}; built in {:.1} s; wrote {} ({} bytes)",
+            h.boundary.len(),
+            se.boundary_size(),
+            h.modes,
+            h.cutoff_hz,
+            h.size,
+            started.elapsed().as_secs_f64(),
+            output.display(),
+            std::fs::metadata(output).map(|m| m.len()).unwrap_or(0)
+        );
+    }
+    Ok(())
 }
 
 /// Runs the sweep of a study on its full model (collective); rank 0 prints and writes.

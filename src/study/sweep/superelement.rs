@@ -146,6 +146,22 @@ impl<'rt> SuperElementModel<'rt> {
         self.built
     }
 
+    pub fn settings(&self) -> &SuperElementSettings {
+        &self.settings
+    }
+
+    /// The super-element at the reduced-interface equilibrium at friction `mu`, built now
+    /// (`squeal superelement`). Collective.
+    pub fn make(
+        &mut self,
+        comm: Comm<'rt>,
+        mu: f64,
+    ) -> anyhow::Result<&reduce::superelement::SuperElement> {
+        let equilibrium = self.base.static_at(comm, mu)?;
+        self.build(comm, &equilibrium, mu)?;
+        Ok(&self.current.as_ref().expect("just built").se)
+    }
+
     /// Builds a super-element at `equilibrium` (friction `mu`) and makes it current.
     fn build(
         &mut self,
