@@ -254,18 +254,34 @@ fn build<'rt>(
 
     // 3. One LU, one block solve for [-K_IB | F_I] -> [Psi | r].
     let load = operators.load.gather_all()?;
-    let k_ib_local = DenseMatrix::from_sparse(comm, &k_ib)?.local_values()?;
+    // K_IB is sparse (only the interior neighbours of the boundary nodes have entries):
+    // read by rows rather than made dense, which on the medium brake was 2 GB more at the
+    // peak (a dense copy in PETSc and one in faer).
+    let (sub_lo, _) = k_ib.ownership_range()?;
+    let k_ib_rows: Vec<Vec<(usize, f64)>> = (0..interior.len())
+        .map(|i| {
+            let mut row = k_ib.row(sub_lo + i)?;
+            row.sort_unstable_by_key(|&(c, _)| c);
+            Ok(row)
+        })
+        .collect::<Result<_, PetscError>>()?;
+    drop(k_ib);
     let mut rhs = DenseMatrix::zeros(comm, interior.len(), n_b + 1)?;
     rhs.write_local(|i, j| {
         if j < n_b {
-            -k_ib_local[(i, j)]
+            let row = &k_ib_rows[i];
+            row.binary_search_by_key(&j, |&(c, _)| c)
+                .map_or(0.0, |at| -row[at].1)
         } else {
             load[interior[i]]
         }
     })?;
+    drop(k_ib_rows);
+    let started = std::time::Instant::now();
     let factored = FactoredMatrix::new(comm, &k_ii, DirectPackage::Mumps, Factorization::Lu)?;
     let solved = factored.solve_block(&rhs)?.local_values()?;
     drop(factored);
+    drop(rhs);
 
     let mut k_sym = if symmetric {
         k_ii
@@ -276,6 +292,8 @@ fn build<'rt>(
         s
     };
     k_sym.mark_symmetric()?;
+    let constraint_seconds = started.elapsed().as_secs_f64();
+    let started = std::time::Instant::now();
     let found = modes::real_modes(
         comm,
         &k_sym,
@@ -294,9 +312,11 @@ fn build<'rt>(
         .map(|v| Ok(v.read()?.to_vec()))
         .collect::<Result<_, PetscError>>()?;
     tracing::info!(
-        "super-element: {n_b} boundary equations, {} interior, {n_m} fixed-interface modes below {cutoff_hz} Hz",
-        k_t.size()?.0 - n_b
+        "super-element: {n_b} boundary equations, {} interior, {n_m} fixed-interface modes below {cutoff_hz} Hz; constraint modes (one LU, one block solve) {constraint_seconds:.1} s, fixed-interface modes {:.1} s",
+        k_t.size()?.0 - n_b,
+        started.elapsed().as_secs_f64()
     );
+    let started = std::time::Instant::now();
 
     // T in the model's equation order, this rank's rows.
     let size = n_b + n_m + 1;
@@ -321,6 +341,7 @@ fn build<'rt>(
     }
     let mut t = DenseMatrix::zeros(comm, hi - lo, size)?;
     t.write_local(|i, j| t_local[(i, j)])?;
+    drop(t_local);
 
     // 4. Projections.
     let stiffness = k_t.project(&t)?;
@@ -328,6 +349,11 @@ fn build<'rt>(
     let f = DenseMatrix::from_columns(comm, &[operators.load.copy()?])?;
     let projected_load = t.transpose_mult(&f)?;
     let load_r: Vec<f64> = (0..size).map(|i| projected_load[(i, 0)]).collect();
+
+    tracing::info!(
+        "super-element: T and the projections K_r = T^T K_t T, M_r = T^T M T {:.1} s",
+        started.elapsed().as_secs_f64()
+    );
 
     // q_s: boundary from the equilibrium; (eta, alpha) fitting w = u_I - Psi u_B in the
     // M_II norm: C = [Phi r], (C^T M_II C) x = C^T M_II w.
