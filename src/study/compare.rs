@@ -57,6 +57,17 @@ struct Point {
     eigenvalues: Vec<Mode>,
     #[serde(default)]
     seconds: f64,
+    /// A super-element assembly's point.
+    #[serde(default)]
+    superelement: Option<SuperElementRecord>,
+}
+
+#[derive(Clone, Debug, serde::Deserialize)]
+struct SuperElementRecord {
+    size: usize,
+    rebuilt: bool,
+    dense_static_seconds: f64,
+    dense_cea_seconds: f64,
 }
 
 #[derive(Clone, Debug, serde::Deserialize)]
@@ -168,6 +179,37 @@ pub struct ModelEntry {
     pub instabilities: usize,
     /// Median wall time of a friction value (static + CEA), s.
     pub seconds_per_friction: f64,
+    /// A super-element assembly: its largest reduced size, the super-elements it built and
+    /// the median time of its dense static + CEA per friction value (s).
+    pub superelement: Option<SuperElementSummary>,
+}
+
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct SuperElementSummary {
+    pub size: usize,
+    pub built: usize,
+    pub dense_seconds_per_friction: f64,
+}
+
+fn superelement_summary(s: &Sweep) -> Option<SuperElementSummary> {
+    let records: Vec<&SuperElementRecord> = s
+        .points
+        .iter()
+        .filter_map(|p| p.superelement.as_ref())
+        .collect();
+    if records.is_empty() {
+        return None;
+    }
+    let mut t: Vec<f64> = records
+        .iter()
+        .map(|r| r.dense_static_seconds + r.dense_cea_seconds)
+        .collect();
+    t.sort_by(f64::total_cmp);
+    Some(SuperElementSummary {
+        size: records.iter().map(|r| r.size).max().unwrap_or(0),
+        built: records.iter().filter(|r| r.rebuilt).count(),
+        dense_seconds_per_friction: t[t.len() / 2],
+    })
 }
 
 fn median_seconds(s: &Sweep) -> f64 {
@@ -345,6 +387,7 @@ pub fn compare(reference: &Path, others: &[PathBuf]) -> Result<Comparison, Compa
         equations: r.model.equations,
         instabilities: r.instabilities.len(),
         seconds_per_friction: median_seconds(&r),
+        superelement: superelement_summary(&r),
     }];
     let mut instabilities = Vec::new();
     let mut extra = Vec::new();
@@ -358,6 +401,7 @@ pub fn compare(reference: &Path, others: &[PathBuf]) -> Result<Comparison, Compa
             equations: o.model.equations,
             instabilities: o.instabilities.len(),
             seconds_per_friction: median_seconds(&o),
+            superelement: superelement_summary(&o),
         });
         let shared: Vec<(usize, usize)> = r
             .points
@@ -500,14 +544,32 @@ impl Comparison {
              |---|---|---|---|---|---|\n",
         );
         for (k, m) in self.models.iter().enumerate() {
+            let (size, time) = match &m.superelement {
+                Some(se) => (
+                    format!(
+                        "{} reduced ({} super-element{} built)",
+                        se.size,
+                        se.built,
+                        if se.built == 1 { "" } else { "s" }
+                    ),
+                    format!(
+                        "{:.1} s (dense static + CEA {:.2} s)",
+                        m.seconds_per_friction, se.dense_seconds_per_friction
+                    ),
+                ),
+                None => (
+                    m.equations.to_string(),
+                    format!("{:.1} s", m.seconds_per_friction),
+                ),
+            };
             s.push_str(&format!(
-                "| {} | `{}` | {} | {} | {} | {:.1} s |\n",
+                "| {} | `{}` | {} | {} | {} | {} |\n",
                 if k == 0 { "reference" } else { "" },
                 m.folder,
                 m.source,
-                m.equations,
+                size,
                 m.instabilities,
-                m.seconds_per_friction
+                time
             ));
         }
         s.push_str(
