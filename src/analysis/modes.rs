@@ -213,7 +213,10 @@ struct Band<'rt> {
 /// its own sub-solver's dimensions (nev 40, ncv 80 here) and stops only once it has seen
 /// past the top of the band. Measured on the clamped disc of 64,512 equations (16 modes
 /// below 10 kHz, 1 rank): 97 triangular solves and 1.7 s of orthogonalisation against 80
-/// vectors.
+/// vectors, 13.0 s for the eigen-solve; this path, one run with nev 16 (SLEPc's ncv 32):
+/// 70 solves, 1.1 s of orthogonalisation, 10.3 s. Tried on that disc: ncv 40, 48, 64 (73,
+/// 66, 85 solves), nev 20 (88), a shift inside the band (5e8 with nev 20: 86; 1e9 with nev
+/// 24: 117, the band's ends being no nearer the shift than the modes above it).
 fn single_shift<'rt>(
     comm: Comm<'rt>,
     k: &Matrix<'rt>,
