@@ -7,13 +7,14 @@ mod common;
 use faer::linalg::solvers::Solve;
 use faer::{Mat, Par, Side};
 use num_complex::Complex64;
+use squeal::analysis::modes::{real_modes, BandMethod, ModeBand, ModesOptions};
 use squeal::fem::{assemble, DofMap, StructureOptions};
 use squeal::mesh::{block::block, Material};
 use squeal::petsc::{
-    columns_to_faer, Comm, DenseMatrix, DirectPackage, EigenOptions, EigenProblem, EigenSolver,
-    FactoredMatrix, Factorization, IndexSet, JacobianChange, LinearMethod, LinearSolver, Matrix,
-    NewtonOptions, NonlinearSolver, PetscError, PetscInt, QuadraticEigenSolver, QuadraticOptions,
-    RowPattern, Runtime, Spectrum, Vector,
+    columns_to_faer, eigenvalues_below, Comm, DenseMatrix, DirectPackage, EigenOptions,
+    EigenProblem, EigenSolver, FactoredMatrix, Factorization, IndexSet, JacobianChange,
+    LinearMethod, LinearSolver, Matrix, NewtonOptions, NonlinearSolver, PetscError, PetscInt,
+    QuadraticEigenSolver, QuadraticOptions, RowPattern, Runtime, Spectrum, Vector,
 };
 use std::f64::consts::PI;
 
@@ -33,6 +34,9 @@ macro_rules! checks {
 const CHECKS: &[Check] = checks![
     "laplacian_1d_ghep_interval" => laplacian_1d_ghep_interval,
     "laplacian_3d_ghep_target" => laplacian_3d_ghep_target,
+    "inertia_counts_laplacian_3d_multiplicities" => inertia_counts,
+    "modes_band_single_shift_laplacian_3d" => modes_band_single_shift,
+    "modes_band_falls_back_to_slicing" => modes_band_falls_back,
     "block_gnhep_complex_shift_invert" => block_gnhep_complex,
     "snes_cubic_reaction_diffusion" => snes_known_solution,
     "snes_callback_error_is_err" => snes_callback_error,
@@ -108,6 +112,49 @@ fn laplacian_1d(i: usize, n: usize) -> Vec<(usize, f64)> {
     row
 }
 
+/// The 7-point Laplacian on a g^3 grid (Dirichlet) as A, B = 2 I, and the closed-form
+/// eigenvalues of (A, B) in increasing order: (sum_d 2 - 2 cos(k_d pi / (g + 1))) / 2,
+/// with multiplicities 1, 3, 3, 3, 6 ... from the permutations of (k_1, k_2, k_3).
+fn laplacian_3d<'rt>(
+    comm: Comm<'rt>,
+    g: usize,
+) -> Result<(Matrix<'rt>, Matrix<'rt>, Vec<f64>), String> {
+    let n = g * g * g;
+    let idx = |x: usize, y: usize, z: usize| (z * g + y) * g + x;
+    let a = matrix(comm, n, |i| {
+        let (x, y, z) = (i % g, (i / g) % g, i / (g * g));
+        let mut row = vec![(i, 6.0)];
+        for (d, c) in [(0, x), (1, y), (2, z)] {
+            let step = |c2: usize| match d {
+                0 => idx(c2, y, z),
+                1 => idx(x, c2, z),
+                _ => idx(x, y, c2),
+            };
+            if c > 0 {
+                row.push((step(c - 1), -1.0));
+            }
+            if c + 1 < g {
+                row.push((step(c + 1), -1.0));
+            }
+        }
+        row
+    })?;
+    let b = matrix(comm, n, |i| vec![(i, 2.0)])?;
+    let one_d: Vec<f64> = (1..=g)
+        .map(|k| 2.0 - 2.0 * (k as f64 * PI / (g as f64 + 1.0)).cos())
+        .collect();
+    let mut exact: Vec<f64> = Vec::new();
+    for &p in &one_d {
+        for &q in &one_d {
+            for &r in &one_d {
+                exact.push((p + q + r) / 2.0);
+            }
+        }
+    }
+    exact.sort_by(f64::total_cmp);
+    Ok((a, b, exact))
+}
+
 fn relative(a: f64, b: f64) -> f64 {
     (a - b).abs() / b.abs().max(1e-300)
 }
@@ -175,40 +222,7 @@ fn laplacian_1d_ghep_interval(rt: &Runtime) -> Result<Vec<f64>, String> {
 /// to 0 (shift-and-invert with MUMPS) must be the 10 smallest of the closed form.
 fn laplacian_3d_ghep_target(rt: &Runtime) -> Result<Vec<f64>, String> {
     let comm = rt.world();
-    let g = 12;
-    let n = g * g * g;
-    let idx = |x: usize, y: usize, z: usize| (z * g + y) * g + x;
-    let a = matrix(comm, n, |i| {
-        let (x, y, z) = (i % g, (i / g) % g, i / (g * g));
-        let mut row = vec![(i, 6.0)];
-        for (d, c) in [(0, x), (1, y), (2, z)] {
-            let step = |c2: usize| match d {
-                0 => idx(c2, y, z),
-                1 => idx(x, c2, z),
-                _ => idx(x, y, c2),
-            };
-            if c > 0 {
-                row.push((step(c - 1), -1.0));
-            }
-            if c + 1 < g {
-                row.push((step(c + 1), -1.0));
-            }
-        }
-        row
-    })?;
-    let b = matrix(comm, n, |i| vec![(i, 2.0)])?;
-    let one_d: Vec<f64> = (1..=g)
-        .map(|k| 2.0 - 2.0 * (k as f64 * PI / (g as f64 + 1.0)).cos())
-        .collect();
-    let mut exact: Vec<f64> = Vec::new();
-    for &p in &one_d {
-        for &q in &one_d {
-            for &r in &one_d {
-                exact.push((p + q + r) / 2.0);
-            }
-        }
-    }
-    exact.sort_by(f64::total_cmp);
+    let (a, b, exact) = laplacian_3d(comm, 12)?;
     let count = 10;
     let options = EigenOptions {
         problem: EigenProblem::HermitianGeneralized,
@@ -232,6 +246,138 @@ fn laplacian_3d_ghep_target(rt: &Runtime) -> Result<Vec<f64>, String> {
         }
     }
     Ok(found)
+}
+
+/// The closed-form spectrum grouped into clusters of equal eigenvalues (the permutations of
+/// (k_1, k_2, k_3) sum in different orders, so equal values differ by round-off): each
+/// cluster's value and multiplicity.
+fn clusters(sorted: &[f64]) -> Vec<(f64, usize)> {
+    let mut out: Vec<(f64, usize)> = Vec::new();
+    for &v in sorted {
+        match out.last_mut() {
+            Some((w, n)) if relative(v, *w) < 1e-12 => *n += 1,
+            _ => out.push((v, 1)),
+        }
+    }
+    out
+}
+
+/// The inertia of LDL^T(A - sigma B) on the 12^3 Laplacian: at a shift halfway between each
+/// of the first 12 clusters of equal eigenvalues (multiplicities 1, 3, 3, 3, 6, ...) and the
+/// next, the number of eigenvalues below it must be the closed-form count, every copy of a
+/// multiple eigenvalue included; at a shift below the spectrum, none.
+fn inertia_counts(rt: &Runtime) -> Result<Vec<f64>, String> {
+    let comm = rt.world();
+    let (a, b, exact) = laplacian_3d(comm, 12)?;
+    let groups = clusters(&exact);
+    if groups.iter().take(12).all(|g| g.1 == 1) {
+        return Err("the first clusters should hold multiple eigenvalues".into());
+    }
+    let mut counts = vec![eigenvalues_below(comm, &a, &b, 0.5 * exact[0]).map_err(e)? as f64];
+    if counts[0] != 0.0 {
+        return Err(format!("{} eigenvalues below half the lowest", counts[0]));
+    }
+    let mut below = 0;
+    for pair in groups.windows(2).take(12) {
+        below += pair[0].1;
+        let sigma = 0.5 * (pair[0].0 + pair[1].0);
+        let count = eigenvalues_below(comm, &a, &b, sigma).map_err(e)?;
+        if count != below {
+            return Err(format!(
+                "{count} eigenvalues below {sigma}, the closed form has {below}"
+            ));
+        }
+        counts.push(count as f64);
+    }
+    Ok(counts)
+}
+
+/// `real_modes` over a band of the 12^3 Laplacian (B = 2 I) whose top lies between the 10th
+/// and 11th clusters of equal eigenvalues: the single shift (one inertia count, one
+/// Krylov-Schur run) must settle it, with every copy of each multiple eigenvalue exactly
+/// once, as the closed form has them.
+fn modes_band_single_shift(rt: &Runtime) -> Result<Vec<f64>, String> {
+    let comm = rt.world();
+    let (a, b, exact) = laplacian_3d(comm, 12)?;
+    let groups = clusters(&exact);
+    let high = 0.5 * (groups[9].0 + groups[10].0);
+    let count: usize = groups[..10].iter().map(|g| g.1).sum();
+    let options = ModesOptions {
+        band: ModeBand::Below {
+            max_frequency_hz: high.sqrt() / (2.0 * PI),
+        },
+        ..Default::default()
+    };
+    let found = real_modes(comm, &a, &b, &options).map_err(|e| e.to_string())?;
+    if found.method != BandMethod::SingleShift {
+        return Err(format!("band searched by {:?}", found.method));
+    }
+    let values: Vec<f64> = found.modes.iter().map(|m| m.eigenvalue).collect();
+    if values.len() != count {
+        return Err(format!(
+            "{} modes in the band, the closed form has {count}: {values:?}",
+            values.len()
+        ));
+    }
+    for (f, x) in values.iter().zip(&exact) {
+        if relative(*f, *x) > 1e-9 {
+            return Err(format!("eigenvalue {f} but closed form {x}"));
+        }
+    }
+    Ok(values)
+}
+
+/// A stiffness with eigenvalues below the band's bottom (the 1D Laplacian, n = 400, shifted
+/// down by 1e-3, B = I: four eigenvalues below -1e-4 of the band's top 0.05). The inertia
+/// at the top counts them, the band [-5e-6, 0.05] does not hold them, so the single shift
+/// cannot match its count and `real_modes` must slice instead, returning exactly the
+/// closed-form eigenvalues inside the band.
+fn modes_band_falls_back(rt: &Runtime) -> Result<Vec<f64>, String> {
+    let comm = rt.world();
+    let n = 400;
+    let shift = 1e-3;
+    let a = matrix(comm, n, |i| {
+        let mut row = laplacian_1d(i, n);
+        row[0].1 -= shift;
+        row
+    })?;
+    let b = matrix(comm, n, |i| vec![(i, 1.0)])?;
+    let high: f64 = 0.05;
+    let low = -1e-4 * high;
+    let all: Vec<f64> = (1..=n)
+        .map(|k| 2.0 - 2.0 * (k as f64 * PI / (n as f64 + 1.0)).cos() - shift)
+        .collect();
+    if all.iter().filter(|&&l| l < low).count() != 4 {
+        return Err("the shifted Laplacian should have four eigenvalues below the band".into());
+    }
+    let exact: Vec<f64> = all
+        .into_iter()
+        .filter(|&l| (low..=high).contains(&l))
+        .collect();
+    let options = ModesOptions {
+        band: ModeBand::Below {
+            max_frequency_hz: high.sqrt() / (2.0 * PI),
+        },
+        ..Default::default()
+    };
+    let found = real_modes(comm, &a, &b, &options).map_err(|e| e.to_string())?;
+    if found.method != BandMethod::Slicing {
+        return Err(format!("band searched by {:?}", found.method));
+    }
+    let values: Vec<f64> = found.modes.iter().map(|m| m.eigenvalue).collect();
+    if values.len() != exact.len() {
+        return Err(format!(
+            "{} modes in the band, the closed form has {}: {values:?}",
+            values.len(),
+            exact.len()
+        ));
+    }
+    for (f, x) in values.iter().zip(&exact) {
+        if relative(*f, *x) > 1e-9 {
+            return Err(format!("eigenvalue {f} but closed form {x}"));
+        }
+    }
+    Ok(values)
 }
 
 /// A x = lambda B x with A block upper-bidiagonal: 2x2 diagonal blocks [[a, b], [-b, a]] and

@@ -223,6 +223,37 @@ impl<'rt> EigenSolver<'rt> {
         Ok(summary)
     }
 
+    /// Asks the next [`solve`](Self::solve) for `count` pairs nearest the target, in the
+    /// B-orthogonal complement of `found` (SLEPc's deflation space: pairs already known are
+    /// not found again). For a `NearTarget` solver only. The shift-and-invert factorisation
+    /// is kept: the operators have not changed, so the next solve costs only its Krylov
+    /// iterations. Collective.
+    pub fn search_beyond(&mut self, found: &[&Vector<'rt>], count: usize) -> Result<()> {
+        if self.requested == 0 {
+            return Err(PetscError::Invalid(
+                "only a solver for a count of eigenvalues can search beyond found pairs".into(),
+            ));
+        }
+        let mut raw: std::vec::Vec<sys::PetscVec> = found.iter().map(|v| v.raw).collect();
+        // SAFETY: live EPS and vectors; SLEPc copies the vectors into its own basis.
+        unsafe {
+            check(sys::EPSSetDeflationSpace(
+                self.raw,
+                to_int(raw.len())?,
+                raw.as_mut_ptr(),
+            ))?;
+            check(sys::EPSSetDimensions(
+                self.raw,
+                to_int(count)?,
+                sys::PETSC_DEFAULT,
+                sys::PETSC_DEFAULT,
+            ))?;
+        }
+        self.requested = count;
+        self.summary = None;
+        Ok(())
+    }
+
     fn check_index(&self, i: usize) -> Result<sys::PetscInt> {
         let n = self.summary.as_ref().map_or(0, |s| s.converged);
         if i >= n {
