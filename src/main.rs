@@ -133,6 +133,14 @@ enum Command {
         /// Radius of influence: grid-optimal, paper, or a length in mesh units.
         #[arg(long, default_value = "grid-optimal")]
         radius: String,
+        /// How each disc node of the reduced interface is tied to the disc face (study key
+        /// reduction.disc_coupling): shape-functions (default) or distributing.
+        #[arg(long, value_enum)]
+        disc_coupling: Option<DiscCouplingArg>,
+        /// Weigh the distributing couplings' nodes by their tributary areas too (study key
+        /// reduction.area_weighting; Abaqus 6.10's mesh-size weighting).
+        #[arg(long)]
+        area_weighting: bool,
     },
     /// Real modes (K phi = omega^2 M phi) of a mesh file or of the built-in brake.
     Modes {
@@ -196,15 +204,30 @@ enum WeightingArg {
     Cubic,
 }
 
+/// How the disc nodes are tied, as a command-line value.
+#[derive(Clone, Copy, Debug, clap::ValueEnum)]
+enum DiscCouplingArg {
+    ShapeFunctions,
+    Distributing,
+}
+
 /// The `[reduction]` the sweep flags ask for (none without a count or spacing).
 fn reduction_flags(
     count: Option<usize>,
     spacing: Option<f64>,
     weighting: WeightingArg,
     radius: &str,
+    (disc_coupling, area_weighting): (Option<DiscCouplingArg>, bool),
 ) -> anyhow::Result<Option<squeal::study::config::ReductionSpec>> {
-    use squeal::reduce::{RadiusChoice, Weighting};
+    use squeal::reduce::{DiscCoupling, RadiusChoice, Weighting};
     if count.is_none() && spacing.is_none() {
+        if disc_coupling.is_some() || area_weighting {
+            anyhow::bail!(
+                "--disc-coupling and --area-weighting set up a reduced interface: give \
+                 --contact-nodes-per-pad or --spacing too (or reduction.disc_coupling and \
+                 reduction.area_weighting in the study file)"
+            );
+        }
         return Ok(None);
     }
     let radius = match radius {
@@ -226,6 +249,11 @@ fn reduction_flags(
         WeightingArg::Quadratic => Weighting::Quadratic,
         WeightingArg::Cubic => Weighting::Cubic,
     };
+    spec.disc_coupling = match disc_coupling {
+        None | Some(DiscCouplingArg::ShapeFunctions) => DiscCoupling::ShapeFunctions,
+        Some(DiscCouplingArg::Distributing) => DiscCoupling::Distributing,
+    };
+    spec.area_weighting = area_weighting;
     Ok(Some(spec))
 }
 
@@ -313,18 +341,25 @@ fn main() -> ExitCode {
             spacing,
             weighting,
             radius,
-        } => reduction_flags(contact_nodes_per_pad, spacing, weighting, &radius).and_then(
-            |reduction| {
-                let args = study::sweep::SweepArgs {
-                    preset,
-                    friction,
-                    max_frequency_hz: fmax,
-                    output,
-                    reduction,
-                };
-                study::sweep::run_command(&rt, study.as_deref(), args, write_study.as_deref())
-            },
-        ),
+            disc_coupling,
+            area_weighting,
+        } => reduction_flags(
+            contact_nodes_per_pad,
+            spacing,
+            weighting,
+            &radius,
+            (disc_coupling, area_weighting),
+        )
+        .and_then(|reduction| {
+            let args = study::sweep::SweepArgs {
+                preset,
+                friction,
+                max_frequency_hz: fmax,
+                output,
+                reduction,
+            };
+            study::sweep::run_command(&rt, study.as_deref(), args, write_study.as_deref())
+        }),
         Command::Mesh {
             mesh,
             preset,

@@ -8,7 +8,7 @@ use crate::model::spec::ModelSpec;
 pub use crate::model::spec::{
     ContactSpec, MaterialSpec, MeshSpec, PressureSpec, SpringDirection, SpringSpec, SupportSpec,
 };
-use crate::reduce::{GridSize, InterfaceSettings, RadiusChoice, Weighting};
+use crate::reduce::{DiscCoupling, GridSize, InterfaceSettings, RadiusChoice, Weighting};
 use std::path::{Path, PathBuf};
 
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -116,6 +116,13 @@ pub struct ReductionSpec {
     /// Stiffness of each tie spring (N/m); default 1000 times the node's contact stiffness.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub spring_stiffness: Option<f64>,
+    /// How each disc node is tied to the disc face: "shape-functions" (default) or
+    /// "distributing" (the pad side's weighting and radius).
+    #[serde(default)]
+    pub disc_coupling: DiscCoupling,
+    /// Weigh each coupled node by its tributary area too (Abaqus 6.10's mesh-size weighting).
+    #[serde(default)]
+    pub area_weighting: bool,
 }
 
 fn cubic() -> Weighting {
@@ -134,6 +141,8 @@ impl ReductionSpec {
             weighting: cubic(),
             radius: grid_optimal(),
             spring_stiffness: None,
+            disc_coupling: DiscCoupling::default(),
+            area_weighting: false,
         }
     }
 
@@ -149,6 +158,8 @@ impl ReductionSpec {
             radius: self.radius,
             spring_stiffness: self.spring_stiffness,
             spring_factor: 1.0,
+            disc_coupling: self.disc_coupling,
+            area_weighting: self.area_weighting,
         }
     }
 }
