@@ -13,8 +13,9 @@
 use squeal::contact::tributary_areas;
 use squeal::model::Model;
 use squeal::reduce::{reduce_interface, GridSize, InterfaceSettings};
+use squeal::study::compare::patch_pressure_l2;
 use squeal::study::config::Study;
-use squeal::study::sweep::ContactMap;
+use squeal::study::sweep::{ContactMap, SurfacePressure};
 use std::collections::BTreeMap;
 
 fn read(dir: &str, mu: f64) -> ContactMap {
@@ -185,6 +186,31 @@ fn main() {
             "  patch restriction of the written fields: {:.1} %; F_k/A_k vs full patch force/area: {:.1} %",
             100.0 * patch_l2(&p_red, &p_full),
             100.0 * node_l2
+        );
+        // compare's metric (patches of the reduced contact points) on the field the sweep
+        // now writes (M2) and on the old spread (M0).
+        let surface_of = |p: &BTreeMap<usize, f64>| -> Vec<SurfacePressure> {
+            p.iter()
+                .map(|(&node, &pressure)| SurfacePressure {
+                    pair: pad.pair.clone(),
+                    node,
+                    position: mesh.nodes[node],
+                    area: area[&node],
+                    pressure,
+                })
+                .collect()
+        };
+        let points: Vec<[f64; 3]> = pad.grid.nodes.iter().map(|n| n.position).collect();
+        let full_surface = surface_of(&p_full);
+        println!(
+            "  compare's patch L2: M2 field {:.1} %, M0 field {:.1} %; uniform-pressure patch test on M2 {:.1e}",
+            100.0 * patch_pressure_l2(&full_surface, &surface_of(&m2(&forces)), &points).unwrap(),
+            100.0 * patch_pressure_l2(&full_surface, &surface_of(&m0(&forces)), &points).unwrap(),
+            {
+                let u: BTreeMap<usize, f64> = area.keys().map(|&n| (n, 1e6)).collect();
+                let fu: Vec<f64> = a_k.iter().map(|a| 1e6 * a).collect();
+                patch_pressure_l2(&surface_of(&u), &surface_of(&m2(&fu)), &points).unwrap()
+            }
         );
         // Floors: the full model's own patch forces through each reconstruction.
         let floor: Vec<f64> = f_patch.clone();

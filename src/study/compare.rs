@@ -890,6 +890,42 @@ mod tests {
         assert!(c.markdown().contains("**missed**"));
     }
 
+    /// The patch L2: 0 for two fields with the same force on every patch however it is
+    /// spread inside (a corner/mid-side oscillation against its mean), exactly the scale
+    /// error for a field scaled by 1.1, and node by node when each node is its own patch.
+    #[test]
+    fn the_patch_pressure_difference_sees_patch_forces_only() {
+        use crate::study::sweep::SurfacePressure;
+        // A strip of 12 nodes, areas alternating 1 and 2, two patches of 6 around x = 2.5
+        // and x = 8.5.
+        let node = |i: usize, pressure: f64| SurfacePressure {
+            pair: "p".into(),
+            node: i,
+            position: [i as f64, 0.0, 0.0],
+            area: if i % 2 == 0 { 1.0 } else { 2.0 },
+            pressure,
+        };
+        let uniform: Vec<_> = (0..12).map(|i| node(i, 3.0)).collect();
+        // Same force per patch: p A = 1.5 on area-1 nodes and 3.75 on area-2 nodes gives
+        // (3 * 1.5 + 3 * 7.5) / 9 = 3 per patch.
+        let oscillating: Vec<_> = (0..12)
+            .map(|i| node(i, if i % 2 == 0 { 1.5 } else { 3.75 }))
+            .collect();
+        let points = [[2.5, 0.0, 0.0], [8.5, 0.0, 0.0]];
+        let l2 = patch_pressure_l2(&uniform, &oscillating, &points).unwrap();
+        assert!(l2 < 1e-15, "{l2}");
+        let scaled: Vec<_> = (0..12).map(|i| node(i, 3.3)).collect();
+        let l2 = patch_pressure_l2(&uniform, &scaled, &points).unwrap();
+        assert!((l2 - 0.1).abs() < 1e-14, "{l2}");
+        // Every node its own patch: the nodal L2 of the oscillation, errors 1.5 on the six
+        // area-1 nodes and 0.75 on the six area-2 ones against 3 on area 18.
+        let own: Vec<[f64; 3]> = (0..12).map(|i| [i as f64, 0.0, 0.0]).collect();
+        let l2 = patch_pressure_l2(&uniform, &oscillating, &own).unwrap();
+        let expect = ((6.0 * 1.5f64.powi(2) + 12.0 * 0.75f64.powi(2)) / (18.0 * 9.0)).sqrt();
+        assert!((l2 - expect).abs() < 1e-14, "{l2} vs {expect}");
+        assert!(patch_pressure_l2(&uniform, &oscillating, &[]).is_none());
+    }
+
     #[test]
     fn a_folder_without_a_sweep_is_named() {
         let root = tempfile::tempdir().unwrap();

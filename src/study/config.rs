@@ -458,4 +458,26 @@ mod tests {
         let s = Study::read(&p).unwrap();
         assert_eq!(s.mesh.file.unwrap(), p.parent().unwrap().join("brake.msh"));
     }
+
+    #[test]
+    fn the_disc_coupling_and_area_weighting_keys_read_and_errors_name_them() {
+        let r: ReductionSpec = toml::from_str("contact_nodes_per_pad = 6\n").unwrap();
+        assert_eq!(r.settings().disc_coupling, DiscCoupling::ShapeFunctions);
+        assert!(!r.settings().area_weighting);
+        let r: ReductionSpec = toml::from_str(
+            "contact_nodes_per_pad = 6\ndisc_coupling = \"distributing\"\narea_weighting = true\n",
+        )
+        .unwrap();
+        assert_eq!(r.settings().disc_coupling, DiscCoupling::Distributing);
+        assert!(r.settings().area_weighting);
+        let p = write(
+            "disc.toml",
+            "[reduction]\ncontact_nodes_per_pad = 6\ndisc_coupling = \"glued\"\n",
+        );
+        let e = Study::read(&p).unwrap_err().to_string();
+        assert!(
+            e.contains("disc.toml") && e.contains("disc_coupling") && e.contains("distributing"),
+            "{e}"
+        );
+    }
 }
