@@ -133,6 +133,14 @@ enum Command {
         /// Radius of influence: grid-optimal, paper, or a length in mesh units.
         #[arg(long, default_value = "grid-optimal")]
         radius: String,
+        /// How each disc node of the reduced interface is tied to the disc face (study key
+        /// reduction.disc_coupling): shape-functions (default) or distributing.
+        #[arg(long, value_enum)]
+        disc_coupling: Option<DiscCouplingArg>,
+        /// Weigh the distributing couplings' nodes by their tributary areas too (study key
+        /// reduction.area_weighting; Abaqus 6.10's mesh-size weighting).
+        #[arg(long)]
+        area_weighting: bool,
         /// Sweep Craig-Bampton super-elements of the reduced-interface model, assembled with
         /// node-to-node cubic contact: one made at --superelement-friction (single), one per
         /// friction value (per-friction), or one rebuilt only when a kept contact changes
@@ -279,15 +287,30 @@ enum WeightingArg {
     Cubic,
 }
 
+/// How the disc nodes are tied, as a command-line value.
+#[derive(Clone, Copy, Debug, clap::ValueEnum)]
+enum DiscCouplingArg {
+    ShapeFunctions,
+    Distributing,
+}
+
 /// The `[reduction]` the sweep flags ask for (none without a count or spacing).
 fn reduction_flags(
     count: Option<usize>,
     spacing: Option<f64>,
     weighting: WeightingArg,
     radius: &str,
+    (disc_coupling, area_weighting): (Option<DiscCouplingArg>, bool),
 ) -> anyhow::Result<Option<squeal::study::config::ReductionSpec>> {
-    use squeal::reduce::{RadiusChoice, Weighting};
+    use squeal::reduce::{DiscCoupling, RadiusChoice, Weighting};
     if count.is_none() && spacing.is_none() {
+        if disc_coupling.is_some() || area_weighting {
+            anyhow::bail!(
+                "--disc-coupling and --area-weighting set up a reduced interface: give \
+                 --contact-nodes-per-pad or --spacing too (or reduction.disc_coupling and \
+                 reduction.area_weighting in the study file)"
+            );
+        }
         return Ok(None);
     }
     let radius = match radius {
@@ -309,6 +332,11 @@ fn reduction_flags(
         WeightingArg::Quadratic => Weighting::Quadratic,
         WeightingArg::Cubic => Weighting::Cubic,
     };
+    spec.disc_coupling = match disc_coupling {
+        None | Some(DiscCouplingArg::ShapeFunctions) => DiscCoupling::ShapeFunctions,
+        Some(DiscCouplingArg::Distributing) => DiscCoupling::Distributing,
+    };
+    spec.area_weighting = area_weighting;
     Ok(Some(spec))
 }
 
@@ -365,22 +393,27 @@ fn main() -> ExitCode {
             superelement_friction,
             cutoff,
             output,
-        } => reduction_flags(contact_nodes_per_pad, spacing, weighting, &radius).and_then(
-            |reduction| {
-                let args = study::sweep::SweepArgs {
-                    preset,
-                    max_frequency_hz: fmax,
-                    reduction,
-                    superelements: study::sweep::SuperElementArgs {
-                        friction: superelement_friction,
-                        cutoff_hz: cutoff,
-                        ..Default::default()
-                    },
+        } => reduction_flags(
+            contact_nodes_per_pad,
+            spacing,
+            weighting,
+            &radius,
+            (None, false),
+        )
+        .and_then(|reduction| {
+            let args = study::sweep::SweepArgs {
+                preset,
+                max_frequency_hz: fmax,
+                reduction,
+                superelements: study::sweep::SuperElementArgs {
+                    friction: superelement_friction,
+                    cutoff_hz: cutoff,
                     ..Default::default()
-                };
-                study::sweep::superelement_command(&rt, study.as_deref(), args, &output)
-            },
-        ),
+                },
+                ..Default::default()
+            };
+            study::sweep::superelement_command(&rt, study.as_deref(), args, &output)
+        }),
         Command::Assemble {
             file,
             friction,
@@ -442,34 +475,41 @@ fn main() -> ExitCode {
             spacing,
             weighting,
             radius,
+            disc_coupling,
+            area_weighting,
             superelements,
             superelement_friction,
             cutoff,
             k_linear,
             k_cubic,
-        } => reduction_flags(contact_nodes_per_pad, spacing, weighting, &radius).and_then(
-            |reduction| {
-                let args = study::sweep::SweepArgs {
-                    preset,
-                    friction,
-                    max_frequency_hz: fmax,
-                    output,
-                    reduction,
-                    superelements: study::sweep::SuperElementArgs {
-                        strategy: superelements.map(|s| match s {
-                            StrategyArg::Single => squeal::reduce::Strategy::Single,
-                            StrategyArg::PerFriction => squeal::reduce::Strategy::PerFriction,
-                            StrategyArg::Adaptive => squeal::reduce::Strategy::Adaptive,
-                        }),
-                        friction: superelement_friction,
-                        cutoff_hz: cutoff,
-                        k_linear,
-                        k_cubic,
-                    },
-                };
-                study::sweep::run_command(&rt, study.as_deref(), args, write_study.as_deref())
-            },
-        ),
+        } => reduction_flags(
+            contact_nodes_per_pad,
+            spacing,
+            weighting,
+            &radius,
+            (disc_coupling, area_weighting),
+        )
+        .and_then(|reduction| {
+            let args = study::sweep::SweepArgs {
+                preset,
+                friction,
+                max_frequency_hz: fmax,
+                output,
+                reduction,
+                superelements: study::sweep::SuperElementArgs {
+                    strategy: superelements.map(|s| match s {
+                        StrategyArg::Single => squeal::reduce::Strategy::Single,
+                        StrategyArg::PerFriction => squeal::reduce::Strategy::PerFriction,
+                        StrategyArg::Adaptive => squeal::reduce::Strategy::Adaptive,
+                    }),
+                    friction: superelement_friction,
+                    cutoff_hz: cutoff,
+                    k_linear,
+                    k_cubic,
+                },
+            };
+            study::sweep::run_command(&rt, study.as_deref(), args, write_study.as_deref())
+        }),
         Command::Mesh {
             mesh,
             preset,

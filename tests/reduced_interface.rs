@@ -12,7 +12,7 @@ use squeal::contact;
 use squeal::fem::element::MassRule;
 use squeal::model::{self, Model, Operators};
 use squeal::petsc::Runtime;
-use squeal::reduce::{reduce_interface, GridSize, InterfaceSettings};
+use squeal::reduce::{reduce_interface, DiscCoupling, GridSize, InterfaceSettings};
 use squeal::study::config::Study;
 
 const CHECKS: &[Check] = &[
@@ -25,6 +25,18 @@ const CHECKS: &[Check] = &[
     Check {
         name: "more_reduced_contact_nodes_come_closer_to_the_full_model",
         run: convergence,
+        ranks: &[1, 2],
+        agreement: 1e-8,
+    },
+    Check {
+        name: "a_distributing_disc_coupling_carries_the_load_and_slides",
+        run: balance_distributing,
+        ranks: &[1, 2],
+        agreement: 1e-8,
+    },
+    Check {
+        name: "both_disc_couplings_give_close_eigenvalues",
+        run: disc_couplings_agree,
         ranks: &[1, 2],
         agreement: 1e-8,
     },
@@ -54,9 +66,19 @@ fn tiny(mu: f64) -> Model {
 }
 
 fn reduced(model: &Model, count: usize, spring_factor: f64) -> Result<Model, String> {
+    reduced_with(model, count, spring_factor, DiscCoupling::ShapeFunctions)
+}
+
+fn reduced_with(
+    model: &Model,
+    count: usize,
+    spring_factor: f64,
+    disc_coupling: DiscCoupling,
+) -> Result<Model, String> {
     let settings = InterfaceSettings {
         size: GridSize::Count(count),
         spring_factor,
+        disc_coupling,
         ..Default::default()
     };
     Ok(reduce_interface(model, &settings).map_err(e)?.model)
@@ -109,9 +131,19 @@ fn solve(rt: &Runtime, model: &Model, fmax: f64) -> Result<Solved, String> {
 /// the built-in study act in the disc plane), and every closed node slides along the disc's
 /// motion: the braking torque is mu N times a radius inside the pad (90-135 mm).
 fn balance(rt: &Runtime) -> Result<Vec<f64>, String> {
+    balance_of(rt, DiscCoupling::ShapeFunctions)
+}
+
+/// The same with each disc node tied to the disc face by a distributing coupling: its
+/// weights add up to 1, so the disc face takes the whole contact force of every node.
+fn balance_distributing(rt: &Runtime) -> Result<Vec<f64>, String> {
+    balance_of(rt, DiscCoupling::Distributing)
+}
+
+fn balance_of(rt: &Runtime, disc: DiscCoupling) -> Result<Vec<f64>, String> {
     let mu = 0.5;
     let full = tiny(mu);
-    let model = reduced(&full, 22, 1.0)?;
+    let model = reduced_with(&full, 22, 1.0, disc)?;
     let solved = solve(rt, &model, 6000.0)?;
     let mut normal = 0.0;
     for pair in &model.pairs {
@@ -211,4 +243,65 @@ fn tie_springs(rt: &Runtime) -> Result<Vec<f64>, String> {
         return Err(format!("tie springs: changes {d1:e} then {d2:e}"));
     }
     Ok(vec![d1, d2])
+}
+
+/// The disc node tied by the face's shape functions (the disc surface's displacement at one
+/// point) or by a distributing coupling (a weighted mean over a patch of radius R): for modes
+/// whose wavelengths on the disc are far longer than R the two differ by O((R / wavelength)^2)
+/// plus the local flexibility of the disc under a point tie, so they stay closer to each
+/// other than to the full model, from which the reduction itself moves them (same 22 nodes
+/// per pad, mu 0.5, every mode up to 6 kHz paired by order).
+fn disc_couplings_agree(rt: &Runtime) -> Result<Vec<f64>, String> {
+    let full_model = tiny(0.5);
+    let full = solve(rt, &full_model, 6000.0)?;
+    let shape = solve(
+        rt,
+        &reduced_with(&full_model, 22, 1.0, DiscCoupling::ShapeFunctions)?,
+        6000.0,
+    )?;
+    let dist = solve(
+        rt,
+        &reduced_with(&full_model, 22, 1.0, DiscCoupling::Distributing)?,
+        6000.0,
+    )?;
+    if shape.modes.len() != dist.modes.len() {
+        return Err(format!(
+            "mode counts: shape functions {}, distributing {}",
+            shape.modes.len(),
+            dist.modes.len()
+        ));
+    }
+    let between = shape
+        .modes
+        .iter()
+        .zip(&dist.modes)
+        .map(|(a, b)| (a.0 - b.0).abs() / a.0)
+        .fold(0.0, f64::max);
+    let mean_between = mean_distance(&shape.modes, &dist.modes);
+    let (to_full_shape, to_full_dist) = (
+        mean_distance(&full.modes, &shape.modes),
+        mean_distance(&full.modes, &dist.modes),
+    );
+    if rt.world().rank() == 0 {
+        eprintln!(
+            "disc ties: largest frequency difference {between:.3e}, mean {mean_between:.3e}; \
+             mean distance to the full model: shape functions {to_full_shape:.3e}, \
+             distributing {to_full_dist:.3e}"
+        );
+        for (a, b) in shape.modes.iter().zip(&dist.modes) {
+            eprintln!(
+                "  {:10.2} Hz {:+.4e} | {:10.2} Hz {:+.4e}",
+                a.0, a.1, b.0, b.1
+            );
+        }
+    }
+    if mean_between >= to_full_shape.min(to_full_dist) {
+        return Err(format!(
+            "the disc ties differ by {mean_between:e} on average, more than the reduction \
+             moves the modes from the full model ({to_full_shape:e}, {to_full_dist:e})"
+        ));
+    }
+    let mut out: Vec<f64> = dist.modes.iter().map(|m| m.0).collect();
+    out.extend([between, mean_between]);
+    Ok(out)
 }

@@ -8,7 +8,9 @@
 //!   coupling's pad nodes: energy (k_s/2) |u_c - sum_i wbar_i u_i|^2 ([`super::coupling`]);
 //! - a disc node d_k at the projection of c_k on the disc face, tied the same way to that
 //!   face's six nodes by the face's shape functions there (the paper remeshed the disc to
-//!   put a node there; a tie to the face needs no remesh);
+//!   put a node there; a tie to the face needs no remesh), or, on request
+//!   ([`DiscCoupling::Distributing`]), to the disc face's nodes within the pad side's radius
+//!   of influence by a distributing coupling of the pad side's weighting;
 //! - a node-to-node penalty contact between c_k and d_k: the disc face's normal and the gap
 //!   there, the pair's mu, sliding direction and separation flag, and the penalty per unit
 //!   area times the node's tributary area (so the total contact stiffness of a pad is the
@@ -25,7 +27,7 @@
 //! [`DEFAULT_SPRING_FACTOR`] k_n A_k; its effect on the eigenvalues is measured by
 //! multiplying it by 10 and 100 (`tests/reduced_interface.rs`).
 
-use super::coupling::{couple_grid, DistributingCoupling, Weighting};
+use super::coupling::{couple_grid, couple_points, DistributingCoupling, Weighting};
 use super::grid::{isometric_grid, ContactGrid, GridSize};
 use super::radius::{grid_optimal, paper_radius};
 use super::ReduceError;
@@ -54,6 +56,20 @@ pub enum RadiusChoice {
     Length(f64),
 }
 
+/// How a disc node d_k is tied to the disc face it lies on.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum DiscCoupling {
+    /// To the six nodes of the face it lies on, by the face's shape functions there: the
+    /// displacement of the disc surface at that point, exactly.
+    #[default]
+    ShapeFunctions,
+    /// To the disc face's nodes within the radius of influence, by a distributing coupling
+    /// with the pad side's weighting and radius (the paper's reduced disc node, which
+    /// stands for a patch of the disc as the pad's stands for a patch of the pad).
+    Distributing,
+}
+
 /// How to reduce the interface.
 #[derive(Clone, Debug, PartialEq)]
 pub struct InterfaceSettings {
@@ -65,6 +81,11 @@ pub struct InterfaceSettings {
     pub spring_stiffness: Option<f64>,
     /// The default k_s multiplied by this (1 normally; 10 and 100 to measure its effect).
     pub spring_factor: f64,
+    /// How each disc node is tied to the disc face.
+    pub disc_coupling: DiscCoupling,
+    /// Distributing couplings weigh each node by its tributary area too
+    /// ([`DistributingCoupling::area_weighted`]); false: the paper's weights alone.
+    pub area_weighting: bool,
 }
 
 impl Default for InterfaceSettings {
@@ -75,6 +96,8 @@ impl Default for InterfaceSettings {
             radius: RadiusChoice::GridOptimal,
             spring_stiffness: None,
             spring_factor: 1.0,
+            disc_coupling: DiscCoupling::ShapeFunctions,
+            area_weighting: false,
         }
     }
 }
@@ -92,6 +115,9 @@ pub struct ReducedPad {
     /// d_k (extra nodes), in the grid's order.
     pub contact_nodes: Vec<usize>,
     pub disc_nodes: Vec<usize>,
+    /// Per reduced contact node, the disc face nodes its disc node d_k is tied to and their
+    /// weights (adding up to 1): the face's shape functions or a distributing coupling.
+    pub disc_ties: Vec<Vec<(usize, f64)>>,
     /// k_s of each node's ties.
     pub spring_stiffness: Vec<f64>,
 }
@@ -138,6 +164,51 @@ pub fn radius_for(choice: RadiusChoice, weighting: Weighting, h: f64) -> Result<
         })
 }
 
+/// The disc face nodes and weights each disc node is tied to (see [`DiscCoupling`]), the
+/// disc nodes at `hits` on the master surface.
+fn disc_ties(
+    mesh: &crate::mesh::Mesh,
+    master: &crate::mesh::Surface,
+    hits: &[crate::contact::project::SurfaceHit],
+    radius: f64,
+    settings: &InterfaceSettings,
+) -> Result<Vec<Vec<(usize, f64)>>, ReduceError> {
+    match settings.disc_coupling {
+        DiscCoupling::ShapeFunctions => Ok(hits
+            .iter()
+            .map(|hit| {
+                master.faces[hit.face]
+                    .nodes
+                    .iter()
+                    .zip(crate::fem::tet10::face_shape(hit.q))
+                    .map(|(&n, w)| (n, w))
+                    .collect()
+            })
+            .collect()),
+        DiscCoupling::Distributing => {
+            let points: Vec<[f64; 3]> = hits.iter().map(|h| h.point).collect();
+            let disc_side = |e: ReduceError| ReduceError::InvalidSurface {
+                surface: master.name.clone(),
+                why: format!("disc-side distributing coupling: {e}"),
+            };
+            let mut couplings = couple_points(mesh, master, &points, radius, settings.weighting)
+                .map_err(disc_side)?;
+            if settings.area_weighting {
+                let areas = contact::tributary_areas(mesh, master).into_iter().collect();
+                couplings = couplings
+                    .into_iter()
+                    .map(|c| c.area_weighted(&areas))
+                    .collect::<Result<_, _>>()
+                    .map_err(disc_side)?;
+            }
+            Ok(couplings
+                .iter()
+                .map(|c| c.nodes.iter().map(|n| (n.node, n.weight)).collect())
+                .collect())
+        }
+    }
+}
+
 /// Replaces every swept node-to-surface pair of `model` by a reduced interface.
 pub fn reduce_interface(
     model: &Model,
@@ -167,7 +238,14 @@ pub fn reduce_interface(
         let (slave, master) = (surface(slave_name)?, surface(master_name)?);
         let grid = isometric_grid(mesh, slave, settings.size)?;
         let radius = radius_for(settings.radius, settings.weighting, grid.spacing)?;
-        let couplings = couple_grid(mesh, slave, &grid, radius, settings.weighting)?;
+        let mut couplings = couple_grid(mesh, slave, &grid, radius, settings.weighting)?;
+        if settings.area_weighting {
+            let areas = contact::tributary_areas(mesh, slave).into_iter().collect();
+            couplings = couplings
+                .into_iter()
+                .map(|c| c.area_weighted(&areas))
+                .collect::<Result<_, _>>()?;
+        }
         let faces: Vec<[[f64; 3]; 6]> = master
             .faces
             .iter()
@@ -187,18 +265,28 @@ pub fn reduce_interface(
             couplings: couplings.clone(),
             contact_nodes: Vec::new(),
             disc_nodes: Vec::new(),
+            disc_ties: Vec::new(),
             spring_stiffness: Vec::new(),
         };
-        for (k, (node, coupling)) in grid.nodes.iter().zip(&couplings).enumerate() {
+        let hits = grid
+            .nodes
+            .iter()
+            .enumerate()
+            .map(|(k, node)| {
+                search
+                    .nearest(node.position, 1e-6, reach)
+                    .ok_or(ReduceError::Unprojected {
+                        pair: name.clone(),
+                        reduced_node: k,
+                        position: node.position,
+                        surface: master_name.clone(),
+                    })
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        let disc_ties = disc_ties(mesh, master, &hits, radius, settings)?;
+        for (k, ((node, coupling), hit)) in grid.nodes.iter().zip(&couplings).zip(&hits).enumerate()
+        {
             let p = node.position;
-            let hit = search
-                .nearest(p, 1e-6, reach)
-                .ok_or(ReduceError::Unprojected {
-                    pair: name.clone(),
-                    reduced_node: k,
-                    position: p,
-                    surface: master_name.clone(),
-                })?;
             let c = reduced.node_count();
             reduced.extra_nodes.push(p);
             let d = reduced.node_count();
@@ -210,14 +298,8 @@ pub fn reduce_interface(
                 * settings.spring_factor;
             let mut pad_tie = vec![(c, 1.0)];
             pad_tie.extend(coupling.nodes.iter().map(|n| (n.node, -n.weight)));
-            let face = &master.faces[hit.face];
             let mut disc_tie = vec![(d, 1.0)];
-            disc_tie.extend(
-                face.nodes
-                    .iter()
-                    .zip(crate::fem::tet10::face_shape(hit.q))
-                    .map(|(&n, w)| (n, -w)),
-            );
+            disc_tie.extend(disc_ties[k].iter().map(|&(n, w)| (n, -w)));
             reduced.couplings.push(CouplingSpring {
                 terms: pad_tie,
                 stiffness: k_s,
@@ -248,6 +330,7 @@ pub fn reduce_interface(
             });
             pad.contact_nodes.push(c);
             pad.disc_nodes.push(d);
+            pad.disc_ties.push(disc_ties[k].clone());
             pad.spring_stiffness.push(k_s);
         }
         reduced.pairs[i] = contact::node_to_node(pair.settings.clone(), pair.penalty, points)
@@ -270,4 +353,151 @@ pub fn reduce_interface(
         model: reduced,
         pads,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::study::config::Study;
+    use crate::vector3::{norm, sub};
+
+    fn tiny() -> Model {
+        Model::from_spec(&Study::builtin("tiny").model_spec()).unwrap()
+    }
+
+    fn settings(count: usize, disc: DiscCoupling, area_weighting: bool) -> InterfaceSettings {
+        InterfaceSettings {
+            size: GridSize::Count(count),
+            disc_coupling: disc,
+            area_weighting,
+            ..Default::default()
+        }
+    }
+
+    /// The disc node's tie: its weights add up to 1 (so the tie spring stores no energy under
+    /// a rigid translation), every weight of a distributing tie is positive and within R.
+    #[test]
+    fn disc_ties_are_normalised_and_hold_a_rigid_translation() {
+        let model = tiny();
+        for disc in [DiscCoupling::ShapeFunctions, DiscCoupling::Distributing] {
+            for area_weighting in [false, true] {
+                let r = reduce_interface(&model, &settings(22, disc, area_weighting)).unwrap();
+                let translation = [1e-3, -2e-3, 5e-4];
+                let u = vec![translation; r.model.node_count()];
+                for pad in &r.pads {
+                    assert_eq!(pad.disc_ties.len(), pad.grid.count());
+                    for (k, tie) in pad.disc_ties.iter().enumerate() {
+                        let sum: f64 = tie.iter().map(|t| t.1).sum();
+                        assert!((sum - 1.0).abs() < 1e-14, "{disc:?}: {sum}");
+                        let d = r.model.position(pad.disc_nodes[k]);
+                        if disc == DiscCoupling::Distributing {
+                            assert!(tie.len() >= 3, "{} nodes", tie.len());
+                            for &(n, w) in tie {
+                                assert!(w > 0.0);
+                                assert!(norm(sub(model.mesh.nodes[n], d)) < pad.radius);
+                            }
+                        } else {
+                            // The face's shape functions put the tie exactly at d.
+                            let x = tie.iter().fold([0.0; 3], |a, &(n, w)| {
+                                crate::vector3::add(
+                                    a,
+                                    crate::vector3::scale(w, model.mesh.nodes[n]),
+                                )
+                            });
+                            assert!(norm(sub(x, d)) < 1e-12 * norm(d), "{x:?} vs {d:?}");
+                        }
+                    }
+                }
+                // Every tie spring (pad and disc) stretches by nothing under the translation.
+                for spring in &r.model.couplings {
+                    let stretch = spring.terms.iter().fold([0.0; 3], |a, &(n, c)| {
+                        crate::vector3::add(a, crate::vector3::scale(c, u[n]))
+                    });
+                    assert!(norm(stretch) < 1e-15 * norm(translation) * 10.0);
+                }
+            }
+        }
+    }
+
+    /// Area weighting: each coupled node's weight is w(r/R) A_i over the sum, A_i its
+    /// tributary area, on the pad side and (distributing) on the disc side.
+    #[test]
+    fn area_weighting_weighs_by_the_tributary_areas() {
+        let model = tiny();
+        let plain =
+            reduce_interface(&model, &settings(22, DiscCoupling::Distributing, false)).unwrap();
+        let weighted =
+            reduce_interface(&model, &settings(22, DiscCoupling::Distributing, true)).unwrap();
+        for (p, q) in plain.pads.iter().zip(&weighted.pads) {
+            let pair = model
+                .pairs
+                .iter()
+                .position(|x| x.settings.name == p.pair)
+                .unwrap();
+            let (slave, master) = model.pair_surfaces[pair].clone().unwrap();
+            let area = |s: &str| -> std::collections::BTreeMap<usize, f64> {
+                crate::contact::tributary_areas(&model.mesh, &model.mesh.surfaces[s])
+                    .into_iter()
+                    .collect()
+            };
+            let (a_pad, a_disc) = (area(&slave), area(&master));
+            let check = |plain: &[(usize, f64)],
+                         weighted: &[(usize, f64)],
+                         a: &std::collections::BTreeMap<usize, f64>| {
+                let total: f64 = plain.iter().map(|&(n, w)| w * a[&n]).sum();
+                assert_eq!(plain.len(), weighted.len());
+                for (&(n, w), &(m, v)) in plain.iter().zip(weighted) {
+                    assert_eq!(n, m);
+                    assert!(
+                        (v - w * a[&n] / total).abs() < 1e-15,
+                        "{v} vs {}",
+                        w * a[&n] / total
+                    );
+                }
+            };
+            for (c, d) in p.couplings.iter().zip(&q.couplings) {
+                let pw: Vec<(usize, f64)> = c.nodes.iter().map(|n| (n.node, n.weight)).collect();
+                let qw: Vec<(usize, f64)> = d.nodes.iter().map(|n| (n.node, n.weight)).collect();
+                check(&pw, &qw, &a_pad);
+            }
+            for (c, d) in p.disc_ties.iter().zip(&q.disc_ties) {
+                check(c, d, &a_disc);
+            }
+        }
+    }
+
+    /// The disc side catches too few nodes for a radius far below its mesh: an error naming
+    /// the disc surface.
+    #[test]
+    fn a_disc_coupling_catching_too_few_nodes_names_the_disc_surface() {
+        let model = tiny();
+        let r =
+            reduce_interface(&model, &settings(6, DiscCoupling::ShapeFunctions, false)).unwrap();
+        let pad = &r.pads[0];
+        let pair = model
+            .pairs
+            .iter()
+            .position(|x| x.settings.name == pad.pair)
+            .unwrap();
+        let (_, master) = model.pair_surfaces[pair].clone().unwrap();
+        let master = &model.mesh.surfaces[&master];
+        let hit = crate::contact::project::SurfaceHit {
+            face: 0,
+            q: [0.3, 0.3],
+            point: r.model.position(pad.disc_nodes[0]),
+            normal: [0.0, 0.0, 1.0],
+            gap: 0.0,
+            outside: 0.0,
+            distance: 0.0,
+        };
+        let s = settings(6, DiscCoupling::Distributing, false);
+        let err = disc_ties(&model.mesh, master, &[hit], 1e-5, &s)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains(&master.name) && err.contains("disc-side") && err.contains("catches"),
+            "{err}"
+        );
+        assert!(disc_ties(&model.mesh, master, &[hit], pad.radius, &s).is_ok());
+    }
 }

@@ -37,13 +37,14 @@ pub mod superelement_file;
 
 pub use basis::{CoordinatesError, LocalBasis};
 pub use coupling::{
-    couple_grid, distributing_coupling, CouplingNode, DistributingCoupling, Weighting,
+    couple_grid, couple_points, distributing_coupling, CouplingNode, DistributingCoupling,
+    Weighting,
 };
 pub use craig_bampton::{build_superelement, build_with_basis, CraigBampton, SuperElementError};
 pub use error::ReduceError;
 pub use grid::{isometric_grid, ContactGrid, GridSize, MeanPlane, ReducedNode};
 pub use interface::{
-    reduce_interface, InterfaceSettings, RadiusChoice, ReducedInterface, ReducedPad,
+    reduce_interface, DiscCoupling, InterfaceSettings, RadiusChoice, ReducedInterface, ReducedPad,
 };
 pub use radius::{radius_table, table_text, DegreeRadius, RadiusTable};
 pub use strategy::{decide, Decision, Strategy};

@@ -8,7 +8,7 @@ use crate::model::spec::ModelSpec;
 pub use crate::model::spec::{
     ContactSpec, MaterialSpec, MeshSpec, PressureSpec, SpringDirection, SpringSpec, SupportSpec,
 };
-use crate::reduce::{GridSize, InterfaceSettings, RadiusChoice, Strategy, Weighting};
+use crate::reduce::{DiscCoupling, GridSize, InterfaceSettings, RadiusChoice, Strategy, Weighting};
 use std::path::{Path, PathBuf};
 
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -116,6 +116,13 @@ pub struct ReductionSpec {
     /// Stiffness of each tie spring (N/m); default 1000 times the node's contact stiffness.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub spring_stiffness: Option<f64>,
+    /// How each disc node is tied to the disc face: "shape-functions" (default) or
+    /// "distributing" (the pad side's weighting and radius).
+    #[serde(default)]
+    pub disc_coupling: DiscCoupling,
+    /// Weigh each coupled node by its tributary area too (Abaqus 6.10's mesh-size weighting).
+    #[serde(default)]
+    pub area_weighting: bool,
     /// Craig-Bampton super-elements on the reduced interface, assembled with node-to-node
     /// cubic contact: "single", "per-friction" or "adaptive". Absent: the reduced-interface
     /// model itself is swept.
@@ -153,6 +160,8 @@ impl ReductionSpec {
             weighting: cubic(),
             radius: grid_optimal(),
             spring_stiffness: None,
+            disc_coupling: DiscCoupling::default(),
+            area_weighting: false,
             superelements: None,
             superelement_friction: None,
             cutoff_frequency_hz: None,
@@ -173,6 +182,8 @@ impl ReductionSpec {
             radius: self.radius,
             spring_stiffness: self.spring_stiffness,
             spring_factor: 1.0,
+            disc_coupling: self.disc_coupling,
+            area_weighting: self.area_weighting,
         }
     }
 }
@@ -501,5 +512,27 @@ mod tests {
         let p = write("rel.toml", "[mesh]\nfile = \"brake.msh\"\n");
         let s = Study::read(&p).unwrap();
         assert_eq!(s.mesh.file.unwrap(), p.parent().unwrap().join("brake.msh"));
+    }
+
+    #[test]
+    fn the_disc_coupling_and_area_weighting_keys_read_and_errors_name_them() {
+        let r: ReductionSpec = toml::from_str("contact_nodes_per_pad = 6\n").unwrap();
+        assert_eq!(r.settings().disc_coupling, DiscCoupling::ShapeFunctions);
+        assert!(!r.settings().area_weighting);
+        let r: ReductionSpec = toml::from_str(
+            "contact_nodes_per_pad = 6\ndisc_coupling = \"distributing\"\narea_weighting = true\n",
+        )
+        .unwrap();
+        assert_eq!(r.settings().disc_coupling, DiscCoupling::Distributing);
+        assert!(r.settings().area_weighting);
+        let p = write(
+            "disc.toml",
+            "[reduction]\ncontact_nodes_per_pad = 6\ndisc_coupling = \"glued\"\n",
+        );
+        let e = Study::read(&p).unwrap_err().to_string();
+        assert!(
+            e.contains("disc.toml") && e.contains("disc_coupling") && e.contains("distributing"),
+            "{e}"
+        );
     }
 }

@@ -44,12 +44,42 @@ pub struct FullModel<'rt> {
     pub(super) reduced: Option<reduce::ReducedInterface>,
 }
 
-/// A swept pair's pad surface: per contact point, the surface nodes its force goes to with
-/// their weights, and every surface node's tributary area.
+/// A swept pair's pad surface: per contact point, the surface nodes it stands for with their
+/// weights c_ik and its own tributary area A_k, and every surface node's tributary area.
+///
+/// The pressure written at surface node i is the contact points' pressures F_k / A_k
+/// interpolated with the weights: `p_i = sum_k c_ik F_k / sum_k c_ik A_k`. A node-to-surface
+/// point stands for its own node alone (c = 1, A_k the node's area): `p_i = F_i / A_i`, the
+/// full model's nodal penalty pressure. A reduced contact node stands for its distributing
+/// coupling's nodes (c_ik = wbar_ik): a partition of unity, so that reduced contact nodes all
+/// at one pressure give exactly that pressure at every node they reach. (Dividing the
+/// spread force `sum_k wbar_ik F_k` by the node's own area instead, as before, gives a
+/// uniform pressure back with an 18 % L2 scatter on the small brake at 106 nodes per pad,
+/// because the weights ignore how much surface each node stands for.)
 struct SweptSurface {
     pair: usize,
     per_point: Vec<Vec<(usize, f64)>>,
+    point_area: Vec<f64>,
     areas: std::collections::BTreeMap<usize, f64>,
+}
+
+impl SweptSurface {
+    /// The pressure at every surface node for the contact points' normal forces (see the
+    /// type's documentation); 0 where no point reaches.
+    fn pressure(&self, forces: &[f64]) -> std::collections::BTreeMap<usize, f64> {
+        let mut sums: std::collections::BTreeMap<usize, (f64, f64)> =
+            self.areas.keys().map(|&n| (n, (0.0, 0.0))).collect();
+        for ((nodes, &area), &force) in self.per_point.iter().zip(&self.point_area).zip(forces) {
+            for &(node, c) in nodes {
+                let s = sums.entry(node).or_default();
+                s.0 += c * force;
+                s.1 += c * area;
+            }
+        }
+        sums.into_iter()
+            .map(|(n, (f, a))| (n, if a > 0.0 { f / a } else { 0.0 }))
+            .collect()
+    }
 }
 
 impl<'rt> FullModel<'rt> {
@@ -355,6 +385,7 @@ fn node_to_surface_spread(model: &Model) -> Vec<SweptSurface> {
             spread.push(SweptSurface {
                 pair: i,
                 per_point: pair.points.iter().map(|p| p.slave.clone()).collect(),
+                point_area: pair.points.iter().map(|p| p.area).collect(),
                 areas: contact::tributary_areas(&model.mesh, surface)
                     .into_iter()
                     .collect(),
@@ -364,7 +395,7 @@ fn node_to_surface_spread(model: &Model) -> Vec<SweptSurface> {
     spread
 }
 
-/// A reduced interface's contact forces go to its distributing couplings' pad nodes.
+/// A reduced interface's contact points stand for their distributing couplings' pad nodes.
 fn reduced_spread(reduced: &reduce::ReducedInterface) -> Vec<SweptSurface> {
     let model = &reduced.model;
     let mut spread = Vec::new();
@@ -382,6 +413,7 @@ fn reduced_spread(reduced: &reduce::ReducedInterface) -> Vec<SweptSurface> {
                 .iter()
                 .map(|c| c.nodes.iter().map(|n| (n.node, n.weight)).collect())
                 .collect(),
+            point_area: pad.grid.nodes.iter().map(|n| n.area).collect(),
             areas: contact::tributary_areas(&model.mesh, surface)
                 .into_iter()
                 .collect(),
@@ -406,24 +438,22 @@ impl FullModel<'_> {
         for swept in &self.spread {
             let pair = &model.pairs[swept.pair];
             let states = &contact[swept.pair];
-            let mut force_on: std::collections::BTreeMap<usize, f64> = Default::default();
-            for ((pt, s), nodes) in pair.points.iter().zip(states).zip(&swept.per_point) {
+            for (pt, s) in pair.points.iter().zip(states) {
                 map.points.push(ContactMapPoint {
                     pair: pair.settings.name.clone(),
                     position: pt.position,
                     closed: s.closed,
                     normal_force: s.normal_force,
                 });
-                for &(node, w) in nodes {
-                    *force_on.entry(node).or_default() += w * s.normal_force;
-                }
                 if pt.slave_node < n {
                     contact_closed[pt.slave_node] = if s.closed { 1.0 } else { 0.0 };
                 }
             }
+            let forces: Vec<f64> = states.iter().map(|s| s.normal_force).collect();
+            let pressure_at = swept.pressure(&forces);
             // Every surface node, loaded or not, so that two models compare node by node.
             for (&node, &area) in &swept.areas {
-                let pressure = force_on.get(&node).copied().unwrap_or(0.0) / area;
+                let pressure = pressure_at.get(&node).copied().unwrap_or(0.0);
                 contact_pressure[node] = pressure;
                 map.surface.push(SurfacePressure {
                     pair: pair.settings.name.clone(),
@@ -464,6 +494,48 @@ impl FullModel<'_> {
             contact_pressure,
             contact_closed,
             unstable,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::study::config::Study;
+
+    /// The patch test of the written pressure: reduced contact nodes all at one pressure p
+    /// (F_k = p A_k) give p at every pad node they reach, to round-off, whatever the
+    /// weights; the full model's points at p give p at every node. Before, the reduced
+    /// spread came back with an 18 % L2 scatter (small brake, 106 nodes per pad).
+    #[test]
+    fn a_uniform_pressure_is_written_uniform_by_both_models() {
+        let full = Model::from_spec(&Study::builtin("tiny").model_spec()).unwrap();
+        let p = 1.7e6;
+        for spread in node_to_surface_spread(&full) {
+            let forces: Vec<f64> = spread.point_area.iter().map(|a| p * a).collect();
+            for (node, q) in spread.pressure(&forces) {
+                assert!((q - p).abs() < 1e-12 * p, "full, node {node}: {q}");
+            }
+        }
+        for area_weighting in [false, true] {
+            let settings = reduce::InterfaceSettings {
+                size: reduce::GridSize::Count(22),
+                area_weighting,
+                ..Default::default()
+            };
+            let reduced = reduce::reduce_interface(&full, &settings).unwrap();
+            let spreads = reduced_spread(&reduced);
+            assert_eq!(spreads.len(), 2);
+            for spread in spreads {
+                let forces: Vec<f64> = spread.point_area.iter().map(|a| p * a).collect();
+                let written = spread.pressure(&forces);
+                let reached = written.values().filter(|&&q| q != 0.0).count();
+                // The grid-optimal radius leaves no pad node out of every coupling.
+                assert_eq!(reached, spread.areas.len());
+                for (node, q) in written {
+                    assert!((q - p).abs() < 1e-12 * p, "reduced, node {node}: {q}");
+                }
+            }
         }
     }
 }

@@ -45,11 +45,11 @@ pub struct ContactMapPoint {
     pub normal_force: f64,
 }
 
-/// The contact pressure on one node of a swept pair's slave (pad) surface: each contact
-/// point's normal force spread on the surface nodes it stands for (a node-to-surface point:
-/// its own node; a reduced contact node: its distributing coupling's nodes, by their
-/// weights), over each node's tributary area. Comparable node by node between a full and a
-/// reduced-interface model of the same mesh.
+/// The contact pressure on one node of a swept pair's slave (pad) surface: a
+/// node-to-surface point's force over its node's tributary area; for a reduced interface,
+/// the reduced contact nodes' pressures (force over tributary area) interpolated to the pad
+/// nodes with the coupling weights, so that a uniform pressure comes back uniform. `squeal
+/// compare` compares two models of the same mesh patch by patch (see its `pressure_l2`).
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct SurfacePressure {
     pub pair: String,
