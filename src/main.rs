@@ -120,27 +120,8 @@ enum Command {
         /// starting point for your own.
         #[arg(long)]
         write_study: Option<PathBuf>,
-        /// Reduce the swept (disc/pad) interface to this many reduced contact nodes per pad
-        /// (the paper's 6, 22, 52, 106): the reduced-interface model.
-        #[arg(long, conflicts_with = "spacing")]
-        contact_nodes_per_pad: Option<usize>,
-        /// Or reduce it to an isometric grid of this side (mesh units).
-        #[arg(long)]
-        spacing: Option<f64>,
-        /// Distributing coupling weights of the reduced interface.
-        #[arg(long, value_enum, default_value = "cubic")]
-        weighting: WeightingArg,
-        /// Radius of influence: grid-optimal, paper, or a length in mesh units.
-        #[arg(long, default_value = "grid-optimal")]
-        radius: String,
-        /// How each disc node of the reduced interface is tied to the disc face (study key
-        /// reduction.disc_coupling): shape-functions (default) or distributing.
-        #[arg(long, value_enum)]
-        disc_coupling: Option<DiscCouplingArg>,
-        /// Weigh the distributing couplings' nodes by their tributary areas too (study key
-        /// reduction.area_weighting; Abaqus 6.10's mesh-size weighting).
-        #[arg(long)]
-        area_weighting: bool,
+        #[command(flatten)]
+        interface: InterfaceFlags,
         /// Sweep Craig-Bampton super-elements of the reduced-interface model, assembled with
         /// node-to-node cubic contact: one made at --superelement-friction (single), one per
         /// friction value (per-friction), or one rebuilt only when a kept contact changes
@@ -214,18 +195,8 @@ enum Command {
         /// The band of the study (Hz): modes are kept to --cutoff, 2 x this by default.
         #[arg(long)]
         fmax: Option<f64>,
-        /// Reduced contact nodes per pad (the paper's 6, 22, 52, 106).
-        #[arg(long, conflicts_with = "spacing")]
-        contact_nodes_per_pad: Option<usize>,
-        /// Or an isometric grid of this side (mesh units).
-        #[arg(long)]
-        spacing: Option<f64>,
-        /// Distributing coupling weights of the reduced interface.
-        #[arg(long, value_enum, default_value = "cubic")]
-        weighting: WeightingArg,
-        /// Radius of influence: grid-optimal, paper, or a length in mesh units.
-        #[arg(long, default_value = "grid-optimal")]
-        radius: String,
+        #[command(flatten)]
+        interface: InterfaceFlags,
         /// mu_SE: the friction value it is made at (default 0.5).
         #[arg(long)]
         superelement_friction: Option<f64>,
@@ -270,6 +241,32 @@ enum Command {
     },
 }
 
+/// The reduced contact interface's flags, shared by the commands that build one.
+#[derive(Clone, Debug, clap::Args)]
+struct InterfaceFlags {
+    /// Reduce the swept (disc/pad) interface to this many reduced contact nodes per pad
+    /// (the paper's 6, 22, 52, 106): the reduced-interface model.
+    #[arg(long, conflicts_with = "spacing")]
+    contact_nodes_per_pad: Option<usize>,
+    /// Or reduce it to an isometric grid of this side (mesh units).
+    #[arg(long)]
+    spacing: Option<f64>,
+    /// Distributing coupling weights of the reduced interface.
+    #[arg(long, value_enum, default_value = "cubic")]
+    weighting: WeightingArg,
+    /// Radius of influence: grid-optimal, paper, or a length in mesh units.
+    #[arg(long, default_value = "grid-optimal")]
+    radius: String,
+    /// How each disc node of the reduced interface is tied to the disc face (study key
+    /// reduction.disc_coupling): shape-functions (default) or distributing.
+    #[arg(long, value_enum)]
+    disc_coupling: Option<DiscCouplingArg>,
+    /// Weigh the distributing couplings' nodes by their tributary areas too (study key
+    /// reduction.area_weighting; Abaqus 6.10's mesh-size weighting).
+    #[arg(long)]
+    area_weighting: bool,
+}
+
 /// The super-element strategy, as a command-line value.
 #[derive(Clone, Copy, Debug, clap::ValueEnum)]
 enum StrategyArg {
@@ -296,12 +293,16 @@ enum DiscCouplingArg {
 
 /// The `[reduction]` the sweep flags ask for (none without a count or spacing).
 fn reduction_flags(
-    count: Option<usize>,
-    spacing: Option<f64>,
-    weighting: WeightingArg,
-    radius: &str,
-    (disc_coupling, area_weighting): (Option<DiscCouplingArg>, bool),
+    flags: &InterfaceFlags,
 ) -> anyhow::Result<Option<squeal::study::config::ReductionSpec>> {
+    let InterfaceFlags {
+        contact_nodes_per_pad: count,
+        spacing,
+        weighting,
+        radius,
+        disc_coupling,
+        area_weighting,
+    } = flags.clone();
     use squeal::reduce::{DiscCoupling, RadiusChoice, Weighting};
     if count.is_none() && spacing.is_none() {
         if disc_coupling.is_some() || area_weighting {
@@ -313,7 +314,7 @@ fn reduction_flags(
         }
         return Ok(None);
     }
-    let radius = match radius {
+    let radius = match radius.as_str() {
         "grid-optimal" => RadiusChoice::GridOptimal,
         "paper" => RadiusChoice::Paper,
         other => RadiusChoice::Length(other.parse().map_err(|_| {
@@ -386,21 +387,11 @@ fn main() -> ExitCode {
             study,
             preset,
             fmax,
-            contact_nodes_per_pad,
-            spacing,
-            weighting,
-            radius,
+            interface,
             superelement_friction,
             cutoff,
             output,
-        } => reduction_flags(
-            contact_nodes_per_pad,
-            spacing,
-            weighting,
-            &radius,
-            (None, false),
-        )
-        .and_then(|reduction| {
+        } => reduction_flags(&interface).and_then(|reduction| {
             let args = study::sweep::SweepArgs {
                 preset,
                 max_frequency_hz: fmax,
@@ -471,25 +462,13 @@ fn main() -> ExitCode {
             fmax,
             output,
             write_study,
-            contact_nodes_per_pad,
-            spacing,
-            weighting,
-            radius,
-            disc_coupling,
-            area_weighting,
+            interface,
             superelements,
             superelement_friction,
             cutoff,
             k_linear,
             k_cubic,
-        } => reduction_flags(
-            contact_nodes_per_pad,
-            spacing,
-            weighting,
-            &radius,
-            (disc_coupling, area_weighting),
-        )
-        .and_then(|reduction| {
+        } => reduction_flags(&interface).and_then(|reduction| {
             let args = study::sweep::SweepArgs {
                 preset,
                 friction,

@@ -15,14 +15,11 @@ mod common;
 use std::path::{Path, PathBuf};
 
 fn squeal() -> &'static Path {
-    Path::new(env!("CARGO_BIN_EXE_squeal"))
+    common::squeal()
 }
 
 fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("squeal-se-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    common::scratch("se", name)
 }
 
 fn success(ranks: usize, args: &[&str]) {

@@ -3,7 +3,7 @@
 
 pub mod harness;
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 /// Seconds after which a job counts as hung (a rank waiting forever on another).
@@ -36,4 +36,17 @@ pub fn text(out: &Output) -> String {
         String::from_utf8_lossy(&out.stdout),
         String::from_utf8_lossy(&out.stderr)
     )
+}
+
+/// The squeal binary Cargo built for the integration tests.
+pub fn squeal() -> &'static Path {
+    Path::new(env!("CARGO_BIN_EXE_squeal"))
+}
+
+/// A fresh folder under the system's temporary folder, unique to this test process.
+pub fn scratch(prefix: &str, name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("squeal-{prefix}-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
 }
