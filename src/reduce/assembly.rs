@@ -398,7 +398,12 @@ impl<'se> Assembly<'se> {
     /// |R(q_s)| / |load| at friction mu: round-off at the super-element's own friction when
     /// its load is consistent (eq. 5).
     pub fn equilibrium_residual(&self, friction: f64) -> f64 {
-        norm2(&self.residual(&self.se.equilibrium, friction)) / norm2(&self.se.load)
+        self.relative_residual(&self.se.equilibrium, friction)
+    }
+
+    /// |R(q)| / |load| at friction mu.
+    pub fn relative_residual(&self, q: &[f64], friction: f64) -> f64 {
+        norm2(&self.residual(q, friction)) / norm2(&self.se.load)
     }
 
     /// The reduced non-linear static at friction mu, by Newton from q_s with the analytic

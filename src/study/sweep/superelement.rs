@@ -338,11 +338,7 @@ impl<'rt> SuperElementModel<'rt> {
                     (Some(q), false) => q.as_slice(),
                     _ => se.equilibrium.as_slice(),
                 };
-                let start_residual = {
-                    let r = assembly.residual(start, mu);
-                    let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
-                    norm(&r) / norm(&se.load)
-                };
+                let start_residual = assembly.relative_residual(start, mu);
                 let t = Instant::now();
                 let statics = assembly.solve_static_from(start, mu, &StaticOptions::default())?;
                 let static_seconds = t.elapsed().as_secs_f64();
@@ -547,20 +543,21 @@ impl<'rt> FrictionModel<'rt> for SuperElementModel<'rt> {
 
         let model = &self.base.model;
         let n_b = current.se.boundary_size();
+        // Contact states: every pair's from the penalty law at the expanded equilibrium, on
+        // every rank (the same data, so a failure is every rank's); the swept pairs' are then
+        // replaced on rank 0 by the dense laws'.
+        let mut states: Vec<Vec<PointState>> = model
+            .pairs
+            .iter()
+            .map(|p| {
+                p.points
+                    .iter()
+                    .map(|pt| contact::point_state(p, pt, &u_static))
+                    .collect::<Result<_, _>>()
+            })
+            .collect::<Result<_, _>>()?;
         let (report, tracking_shapes, fields) = match &dense.root {
             Some((statics, cea, start_residual, static_seconds, cea_seconds)) if root => {
-                // Contact states: the swept pairs' from the dense laws, the others' from the
-                // penalty law at the expanded equilibrium.
-                let mut states: Vec<Vec<PointState>> = model
-                    .pairs
-                    .iter()
-                    .map(|p| {
-                        p.points
-                            .iter()
-                            .map(|pt| contact::point_state(p, pt, &u_static))
-                            .collect::<Result<_, _>>()
-                    })
-                    .collect::<Result<_, _>>()?;
                 for (state, &(i, k)) in statics.pairs.iter().zip(&current.boundary_points) {
                     let area = model.pairs[i].points[k].area;
                     states[i][k] = PointState {
