@@ -118,6 +118,7 @@ fn block_on_block(rt: &Runtime) -> Result<Vec<f64>, String> {
         penalty: None,
         separation: true,
         sliding: SlidingDirection::Fixed([1.0, 0.0, 0.0]),
+        law: squeal::contact::FrictionLaw::SteadySliding,
     };
     let pair = contact::node_to_surface(
         &mesh,
@@ -172,10 +173,11 @@ fn block_on_block(rt: &Runtime) -> Result<Vec<f64>, String> {
         stiffness: &k,
         load: &load,
         pairs: &pairs,
+        slip: &squeal::contact::SlipHistory::default(),
         bodies: &restraint::bodies(&mesh),
     };
     let solution = statics::solve(comm, &problem, None, &StaticOptions::default()).map_err(e)?;
-    let summary = contact::summarize(&pairs[0], &solution.displacement).map_err(e)?;
+    let summary = contact::summarize(&pairs[0], &[], &solution.displacement).map_err(e)?;
     let applied = pressure * 0.1 * 0.06;
     // Newton stops at |R| < 1e-10 |R0| (|R0| ~ the load): the balance holds to that.
     let balance = (summary.normal_force - applied).abs() / applied;
@@ -232,10 +234,19 @@ fn brake_modes(rt: &Runtime, mu: f64, symmetric_check: bool) -> Result<Vec<f64>,
         stiffness: &k,
         load: &load,
         pairs: &model.pairs,
+        slip: &squeal::contact::SlipHistory::default(),
         bodies: &restraint::bodies(&model.mesh),
     };
     let solution = statics::solve(comm, &problem, None, &StaticOptions::default()).map_err(e)?;
-    let kt = statics::tangent(comm, &k, &dofs, &model.pairs, &solution.displacement).map_err(e)?;
+    let kt = statics::tangent(
+        comm,
+        &k,
+        &dofs,
+        &model.pairs,
+        &solution.slip_before,
+        &solution.displacement,
+    )
+    .map_err(e)?;
     if symmetric_check {
         let norm = kt.norm_frobenius().map_err(e)?;
         if !kt.is_symmetric(1e-12 * norm).map_err(e)? {
@@ -300,6 +311,7 @@ fn unheld_pad(rt: &Runtime) -> Result<Vec<f64>, String> {
         stiffness: &k,
         load: &load,
         pairs: &model.pairs,
+        slip: &squeal::contact::SlipHistory::default(),
         bodies: &restraint::bodies(&model.mesh),
     };
     let options = StaticOptions {

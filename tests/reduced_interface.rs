@@ -103,10 +103,19 @@ fn solve(rt: &Runtime, model: &Model, fmax: f64) -> Result<Solved, String> {
         stiffness: &k,
         load: &load,
         pairs: &model.pairs,
+        slip: &squeal::contact::SlipHistory::default(),
         bodies: &restraint::bodies(&model.mesh),
     };
     let solution = statics::solve(comm, &problem, None, &StaticOptions::default()).map_err(e)?;
-    let kt = statics::tangent(comm, &k, &dofs, &model.pairs, &solution.displacement).map_err(e)?;
+    let kt = statics::tangent(
+        comm,
+        &k,
+        &dofs,
+        &model.pairs,
+        &solution.slip_before,
+        &solution.displacement,
+    )
+    .map_err(e)?;
     let result = cea::undamped(
         comm,
         &kt,
@@ -147,7 +156,7 @@ fn balance_of(rt: &Runtime, disc: DiscCoupling) -> Result<Vec<f64>, String> {
     let solved = solve(rt, &model, 6000.0)?;
     let mut normal = 0.0;
     for pair in &model.pairs {
-        let s = contact::summarize(pair, &solved.displacement).map_err(e)?;
+        let s = contact::summarize(pair, &[], &solved.displacement).map_err(e)?;
         normal += s.normal_force;
         if s.closed == 0 {
             return Err(format!(

@@ -62,7 +62,17 @@ struct Setup<'rt> {
     reduced: ReducedInterface,
     operators: Operators<'rt>,
     displacement: Vec<[f64; 3]>,
+    slip: squeal::contact::SlipHistory,
     swept: Vec<usize>,
+}
+
+impl Setup<'_> {
+    fn configuration(&self) -> statics::Configuration<'_> {
+        statics::Configuration {
+            displacement: &self.displacement,
+            slip: &self.slip,
+        }
+    }
 }
 
 fn setup(rt: &Runtime) -> Result<Setup<'_>, String> {
@@ -84,6 +94,7 @@ fn setup(rt: &Runtime) -> Result<Setup<'_>, String> {
         stiffness: &operators.stiffness,
         load: &operators.load,
         pairs: &model.pairs,
+        slip: &squeal::contact::SlipHistory::default(),
         bodies: &restraint::bodies(&model.mesh),
     };
     let solution = statics::solve(comm, &problem, None, &StaticOptions::default()).map_err(e)?;
@@ -92,6 +103,7 @@ fn setup(rt: &Runtime) -> Result<Setup<'_>, String> {
         reduced,
         operators,
         displacement: solution.displacement,
+        slip: solution.slip_before,
         swept,
     })
 }
@@ -102,7 +114,7 @@ fn build<'rt>(s: &Setup<'rt>, rt: &'rt Runtime, cutoff: f64) -> Result<CraigBamp
         rt.world(),
         &s.reduced,
         &s.operators,
-        &s.displacement,
+        s.configuration(),
         &s.swept,
         FRICTION,
         cutoff,
@@ -232,6 +244,7 @@ fn equilibrium_case(rt: &Runtime, keep_second: bool) -> Result<Vec<f64>, String>
         &s.operators.stiffness,
         &s.operators.dofs,
         &kept,
+        &squeal::contact::SlipHistory::default(),
         &s.displacement,
     )
     .map_err(e)?;
@@ -348,7 +361,7 @@ fn refuses_bad_input(rt: &Runtime, s: &Setup) -> Result<(), String> {
             rt.world(),
             &s.reduced,
             &s.operators,
-            &s.displacement,
+            s.configuration(),
             swept,
             FRICTION,
             cutoff,
@@ -494,6 +507,7 @@ fn assembly_matches_the_reduced_interface(rt: &Runtime) -> Result<Vec<f64>, Stri
         &s.operators.stiffness,
         &s.operators.dofs,
         &s.reduced.model.pairs,
+        &squeal::contact::SlipHistory::default(),
         &s.displacement,
     )
     .map_err(e)?;

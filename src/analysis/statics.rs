@@ -2,9 +2,14 @@
 //! Newton with a line search, the Jacobian K + dF_c/dU assembled in Rust from the contact
 //! pairs (unsymmetric with friction), MUMPS for the linear steps. The load goes on in
 //! increments, and a step that fails is cut back.
+//!
+//! Coulomb pairs carry a slip history ([`SlipHistory`]): each increment's Newton solve
+//! evaluates their return mapping from the history the increment started from (backward
+//! Euler: the state at the end of the increment does not depend on the Newton path), and
+//! the history is committed once the increment converges.
 
 use super::restraint::{self, Body, FreeBody};
-use crate::contact::{self, ContactPair, PointState};
+use crate::contact::{self, ContactPair, PointState, SlipHistory, Status};
 use crate::fem::DofMap;
 use crate::petsc::{
     format_history, Comm, JacobianChange, Matrix, NewtonOptions, NonlinearSolver, PetscError,
@@ -20,6 +25,9 @@ pub struct StaticProblem<'a, 'rt> {
     /// External load at factor 1.
     pub load: &'a Vector<'rt>,
     pub pairs: &'a [ContactPair],
+    /// The Coulomb pairs' slip history the solve starts from (the previous equilibrium's
+    /// [`StaticSolution::slip_after`]; empty: the surfaces have just closed).
+    pub slip: &'a SlipHistory,
     /// The bodies checked for rigid motions the initial tangent leaves free (empty: none).
     pub bodies: &'a [Body],
 }
@@ -74,6 +82,30 @@ pub struct StaticSolution {
     pub cutbacks: Vec<(f64, String)>,
     /// State of every contact point, per pair.
     pub contact: Vec<Vec<PointState>>,
+    /// The slip history the last increment started from: with it, the contact law at
+    /// `displacement` gives `contact` and the consistent tangent (pass it with
+    /// `displacement` to [`tangent`] and [`add_contact_tangent`]).
+    pub slip_before: SlipHistory,
+    /// The history after the equilibrium, committed: where a following solve (the next
+    /// friction value) starts from.
+    pub slip_after: SlipHistory,
+}
+
+/// An equilibrium as the contact law sees it: the displacements and the slip history they
+/// were reached from (their states and consistent tangent follow from the two).
+#[derive(Clone, Copy, Debug)]
+pub struct Configuration<'a> {
+    pub displacement: &'a [[f64; 3]],
+    pub slip: &'a SlipHistory,
+}
+
+impl StaticSolution {
+    pub fn configuration(&self) -> Configuration<'_> {
+        Configuration {
+            displacement: &self.displacement,
+            slip: &self.slip_before,
+        }
+    }
 }
 
 #[derive(Debug, thiserror::Error)]
@@ -94,19 +126,51 @@ pub enum StaticsError {
     Petsc(#[from] PetscError),
 }
 
-/// The points a rank evaluates: those whose first slave node it owns.
+/// The points a rank evaluates: those whose first slave node it owns, with their anchors.
 fn owned_points<'p>(
     pairs: &'p [ContactPair],
+    slip: &'p SlipHistory,
     dofs: &'p DofMap,
-) -> impl Iterator<Item = (&'p ContactPair, &'p contact::ContactPoint)> + 'p {
+) -> impl Iterator<Item = (&'p ContactPair, &'p contact::ContactPoint, [f64; 3])> + 'p {
     let owned = dofs.owned_nodes();
-    pairs.iter().flat_map(move |pair| {
+    pairs.iter().enumerate().flat_map(move |(i, pair)| {
         let owned = owned.clone();
         pair.points
             .iter()
-            .filter(move |pt| pt.slave.first().is_some_and(|s| owned.contains(&s.0)))
-            .map(move |pt| (pair, pt))
+            .enumerate()
+            .filter(move |(_, pt)| pt.slave.first().is_some_and(|s| owned.contains(&s.0)))
+            .map(move |(k, pt)| (pair, pt, slip.anchor(i, k)))
     })
+}
+
+/// Every point's state at `u` from the history `slip`, per pair. Each rank evaluates every
+/// point (cheap beside a solve; `u` is replicated).
+pub fn contact_states(
+    pairs: &[ContactPair],
+    slip: &SlipHistory,
+    u: &[[f64; 3]],
+) -> Result<Vec<Vec<PointState>>, contact::ContactError> {
+    pairs
+        .iter()
+        .enumerate()
+        .map(|(i, pair)| {
+            pair.points
+                .iter()
+                .enumerate()
+                .map(|(k, pt)| contact::point_state(pair, pt, slip.anchor(i, k), u))
+                .collect()
+        })
+        .collect()
+}
+
+/// The history after states `states` (each point's anchor).
+pub fn committed(states: &[Vec<PointState>]) -> SlipHistory {
+    SlipHistory::from_anchors(
+        states
+            .iter()
+            .map(|pair| pair.iter().map(|s| s.anchor).collect())
+            .collect(),
+    )
 }
 
 fn equations(dofs: &DofMap, nodes: &[usize]) -> Vec<PetscInt> {
@@ -125,11 +189,12 @@ pub fn add_contact_forces(
     f: &mut Vector,
     dofs: &DofMap,
     pairs: &[ContactPair],
+    slip: &SlipHistory,
     u: &[[f64; 3]],
 ) -> Result<(), StaticsError> {
     let mut failure = None;
-    for (pair, point) in owned_points(pairs, dofs) {
-        match contact::evaluate(pair, point, u) {
+    for (pair, point, anchor) in owned_points(pairs, slip, dofs) {
+        match contact::evaluate(pair, point, anchor, u) {
             Ok((_, Some(c))) => f.add_values(&equations(dofs, &c.nodes), &c.residual)?,
             Ok((_, None)) => {}
             Err(e) => {
@@ -155,39 +220,67 @@ fn collective_failure(
     }
 }
 
+/// A point's tangent, as far as deciding how much a new one differs from the last.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PointTangent {
+    pub status: Status,
+    /// Coulomb pairs' blocks change with their state and, while slipping, with every step.
+    pub coulomb: bool,
+}
+
+impl PointTangent {
+    /// An upper bound on the rank of the change of this point's tangent block since
+    /// `before`: 1 for a steady-sliding point opening or closing (`k A (n + mu t) n^T`),
+    /// 3 for a Coulomb point changing state, 2 for one that keeps slipping (its tangential
+    /// block moves with the slip direction).
+    pub fn rank_of_change(&self, before: &PointTangent) -> usize {
+        match (self.coulomb, self.status == before.status) {
+            (false, true) => 0,
+            (false, false) => 1,
+            (true, false) => 3,
+            (true, true) => 2 * usize::from(self.status == Status::Slip),
+        }
+    }
+}
+
 /// J = K + dF_c/dU at `u`, into `j` (same pattern as K). Collective, failures included.
-/// Returns whether each of this rank's contact points is closed (owned-point order).
+/// Returns each of this rank's contact points' tangent kind (owned-point order).
 pub fn tangent_into<'rt>(
     comm: Comm<'rt>,
     j: &mut Matrix<'rt>,
     stiffness: &Matrix<'rt>,
     dofs: &DofMap,
     pairs: &[ContactPair],
+    slip: &SlipHistory,
     u: &[[f64; 3]],
-) -> Result<Vec<bool>, StaticsError> {
+) -> Result<Vec<PointTangent>, StaticsError> {
     j.zero()?;
     j.add(1.0, stiffness, Structure::Same)?;
-    add_contact_tangent(comm, j, dofs, pairs, u, 1.0)
+    add_contact_tangent(comm, j, dofs, pairs, slip, u, 1.0)
 }
 
 /// Adds `scale` dF_c/dU at `u` into `j` (whose pattern holds the contact couplings) and
 /// assembles. With scale 1 then -1 around a use, a stiffness serves as the tangent without a
 /// second matrix, and comes back to within one rounding per entry. Collective. Returns
-/// whether each of this rank's contact points is closed (owned-point order).
+/// each of this rank's contact points' tangent kind (owned-point order).
 pub fn add_contact_tangent<'rt>(
     comm: Comm<'rt>,
     j: &mut Matrix<'rt>,
     dofs: &DofMap,
     pairs: &[ContactPair],
+    slip: &SlipHistory,
     u: &[[f64; 3]],
     scale: f64,
-) -> Result<Vec<bool>, StaticsError> {
+) -> Result<Vec<PointTangent>, StaticsError> {
     let mut failure = None;
     let mut closed = Vec::new();
-    for (pair, point) in owned_points(pairs, dofs) {
-        match contact::evaluate(pair, point, u) {
+    for (pair, point, anchor) in owned_points(pairs, slip, dofs) {
+        match contact::evaluate(pair, point, anchor, u) {
             Ok((state, contribution)) => {
-                closed.push(state.closed);
+                closed.push(PointTangent {
+                    status: state.status,
+                    coulomb: pair.stick_stiffness().is_some(),
+                });
                 if let Some(mut c) = contribution {
                     let idx = equations(dofs, &c.nodes);
                     if scale != 1.0 {
@@ -213,10 +306,11 @@ pub fn tangent<'rt>(
     stiffness: &Matrix<'rt>,
     dofs: &DofMap,
     pairs: &[ContactPair],
+    slip: &SlipHistory,
     u: &[[f64; 3]],
 ) -> Result<Matrix<'rt>, StaticsError> {
     let mut j = stiffness.duplicate()?;
-    tangent_into(comm, &mut j, stiffness, dofs, pairs, u)?;
+    tangent_into(comm, &mut j, stiffness, dofs, pairs, slip, u)?;
     Ok(j)
 }
 
@@ -250,7 +344,14 @@ pub fn solve<'rt>(
     }
     if !problem.bodies.is_empty() {
         let u0 = node_displacements(&x, dofs)?;
-        let j0 = tangent(comm, problem.stiffness, dofs, problem.pairs, &u0)?;
+        let j0 = tangent(
+            comm,
+            problem.stiffness,
+            dofs,
+            problem.pairs,
+            problem.slip,
+            &u0,
+        )?;
         let free = restraint::free_bodies(comm, &j0, dofs, problem.bodies)?;
         if !free.is_empty() {
             return Err(StaticsError::Unrestrained(free));
@@ -261,10 +362,12 @@ pub fn solve<'rt>(
     let mut factor = 0.0;
     let mut step = 1.0 / options.increments.max(1) as f64;
     let mut halvings = 0;
+    let mut slip = problem.slip.clone();
+    let mut slip_before = slip.clone();
     while factor < 1.0 - 1e-12 {
         let target = (factor + step).min(1.0);
         let saved = x.copy()?;
-        match newton(comm, problem, target, &mut x, &options.newton) {
+        match newton(comm, problem, &slip, target, &mut x, &options.newton) {
             Ok(report) => {
                 tracing::info!(
                     "load factor {target:.3}: {} Newton iterations ({} factorisations), residual {}",
@@ -280,6 +383,11 @@ pub fn solve<'rt>(
                     reason: report.reason,
                 });
                 factor = target;
+                // Commit the increment's slip: every rank computes it from the same
+                // replicated displacements.
+                let u = node_displacements(&x, dofs)?;
+                let after = committed(&contact_states(problem.pairs, &slip, &u)?);
+                slip_before = std::mem::replace(&mut slip, after);
             }
             // Set-up and library faults (a bad option, no memory) are not cured by a smaller
             // load step: only divergence and failed contact evaluations are cut back.
@@ -304,27 +412,21 @@ pub fn solve<'rt>(
         }
     }
     let displacement = node_displacements(&x, dofs)?;
-    let contact = problem
-        .pairs
-        .iter()
-        .map(|pair| {
-            pair.points
-                .iter()
-                .map(|pt| contact::point_state(pair, pt, &displacement))
-                .collect::<Result<Vec<_>, _>>()
-        })
-        .collect::<Result<Vec<_>, _>>()?;
+    let contact = contact_states(problem.pairs, &slip_before, &displacement)?;
     Ok(StaticSolution {
         displacement,
         increments,
         cutbacks,
         contact,
+        slip_before,
+        slip_after: slip,
     })
 }
 
 fn newton<'rt>(
     comm: Comm<'rt>,
     problem: &StaticProblem<'_, 'rt>,
+    slip: &SlipHistory,
     load_factor: f64,
     x: &mut Vector<'rt>,
     options: &NewtonOptions,
@@ -338,19 +440,25 @@ fn newton<'rt>(
         k.mult(x, f).map_err(|e| e.to_string())?;
         f.axpy(-load_factor, load).map_err(|e| e.to_string())?;
         let u = node_displacements(x, dofs).map_err(|e| e.to_string())?;
-        add_contact_forces(comm, f, dofs, pairs, &u).map_err(|e| e.to_string())
+        add_contact_forces(comm, f, dofs, pairs, slip, &u).map_err(|e| e.to_string())
     });
-    // The tangent depends on u only through which points are closed (small sliding: fixed
-    // normals and directions), and each point that opens or closes changes it by a rank-one
-    // term: Newton may keep a factorisation while few points switch.
-    let mut previous: Option<Vec<bool>> = None;
+    // A steady-sliding point's tangent depends on u only through whether it is closed
+    // (small sliding: fixed normals and directions), and opening or closing changes it by a
+    // rank-one term; a Coulomb point's by at most rank 3 (see PointTangent): Newton may keep
+    // a factorisation while few points switch.
+    let mut previous: Option<Vec<PointTangent>> = None;
     let jacobian = Box::new(move |x: &Vector<'rt>, j: &mut Matrix<'rt>| {
         let u = node_displacements(x, dofs).map_err(|e| e.to_string())?;
-        let closed = tangent_into(comm, j, k, dofs, pairs, &u).map_err(|e| e.to_string())?;
+        let closed = tangent_into(comm, j, k, dofs, pairs, slip, &u).map_err(|e| e.to_string())?;
         let change = match &previous {
             None => JacobianChange::Unknown,
             Some(p) => {
-                let mut flips = [p.iter().zip(&closed).filter(|(a, b)| a != b).count() as f64];
+                let rank: usize = p
+                    .iter()
+                    .zip(&closed)
+                    .map(|(a, b)| b.rank_of_change(a))
+                    .sum();
+                let mut flips = [rank as f64];
                 comm.sum_in_place(&mut flips);
                 JacobianChange::RankAtMost(flips[0] as usize)
             }

@@ -6,6 +6,8 @@
 //!   ([`node_to_surface`]) or node-to-node from given points ([`node_to_node`]).
 //! - [`project`]: projection of a point on a 6-node triangular face and the bucket search for
 //!   the closest face of a surface ([`SurfaceSearch`]).
+//! - [`coulomb`]: Coulomb friction with stick and slip ([`Status`]), its return mapping and
+//!   consistent tangent, and the slip history a model carries ([`SlipHistory`]).
 //! - [`penalty`]: the gap, the contact force and its (unsymmetric) Jacobian at one contact
 //!   point for a displacement field ([`evaluate`]), and a pair's summary ([`summarize`]).
 //!
@@ -14,13 +16,15 @@
 //! sliding direction `t`. The gap is then linear in the displacements and the only
 //! non-linearity is the switch between open and closed.
 
+pub mod coulomb;
 pub mod pair;
 pub mod penalty;
 pub mod project;
 
+pub use coulomb::{SlipHistory, Status};
 pub use pair::{
-    node_to_node, node_to_surface, tributary_areas, ContactPair, ContactPoint, MasterFace,
-    PairSettings, SlidingDirection,
+    node_to_node, node_to_surface, tributary_areas, ContactPair, ContactPoint, FrictionLaw,
+    MasterFace, PairSettings, SlidingDirection,
 };
 pub use penalty::{
     evaluate, point_state, summarize, summarize_states, PairSummary, PointContribution, PointState,

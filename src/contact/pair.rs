@@ -97,6 +97,28 @@ impl SlidingDirection {
     }
 }
 
+/// How friction acts at an interface.
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum FrictionLaw {
+    /// The master slides under the slave along an imposed direction everywhere they touch
+    /// (the disc under the pads): the friction force is `mu p t`, always.
+    #[default]
+    SteadySliding,
+    /// Coulomb friction with stick and slip for surfaces with no imposed sliding (piston,
+    /// caliper and bracket on the pads): a tangential penalty spring of `stick_stiffness`
+    /// per unit area holds a point until its force reaches `mu p`, then the point slips
+    /// ([`super::coulomb`]).
+    Coulomb {
+        /// Tangential stiffness per unit area while sticking (Pa/m); `None`: the normal
+        /// penalty / 100, the stick slope the CalculiX manual advises for penalty contact.
+        stick_stiffness: Option<f64>,
+    },
+}
+
+/// The default stick stiffness is the normal penalty divided by this.
+pub const STICK_STIFFNESS_DIVISOR: f64 = 100.0;
+
 /// What the user sets for one interface (one row of the paper's Table 1).
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct PairSettings {
@@ -111,6 +133,10 @@ pub struct PairSettings {
     /// (`p = k_n A (-g)`, may pull).
     pub separation: bool,
     pub sliding: SlidingDirection,
+    /// Steady sliding along `sliding`, or Coulomb stick/slip (then `sliding` must be
+    /// [`SlidingDirection::None`]: the slip direction comes from the solution).
+    #[serde(default)]
+    pub law: FrictionLaw,
 }
 
 impl PairSettings {
@@ -130,6 +156,24 @@ impl PairSettings {
         }
         if let Some(k) = self.penalty {
             check_penalty(k).map_err(invalid)?;
+        }
+        if let FrictionLaw::Coulomb { stick_stiffness } = self.law {
+            if self.sliding != SlidingDirection::None {
+                return Err(invalid(
+                    "a pair with the coulomb friction law slips where its forces take it: it \
+                     cannot also be given a sliding direction (use friction_law = \
+                     \"steady-sliding\" for a disc turning under a pad, or remove `sliding`)"
+                        .into(),
+                ));
+            }
+            if let Some(k) = stick_stiffness {
+                if !(k > 0.0 && k.is_finite()) {
+                    return Err(invalid(format!(
+                        "stick_stiffness {k} (tangential stiffness per unit area) must be \
+                         finite and > 0"
+                    )));
+                }
+            }
         }
         self.sliding.check().map_err(invalid)
     }
@@ -190,6 +234,19 @@ pub struct ContactPair {
     /// Penalty stiffness per unit area `k_n` in use (the setting, or its default).
     pub penalty: f64,
     pub points: Vec<ContactPoint>,
+}
+
+impl ContactPair {
+    /// Tangential stiffness per unit area while sticking: the setting, or the penalty / 100;
+    /// `None` for a steady-sliding pair.
+    pub fn stick_stiffness(&self) -> Option<f64> {
+        match self.settings.law {
+            FrictionLaw::SteadySliding => None,
+            FrictionLaw::Coulomb { stick_stiffness } => {
+                Some(stick_stiffness.unwrap_or(self.penalty / STICK_STIFFNESS_DIVISOR))
+            }
+        }
+    }
 }
 
 /// Tolerance on a unit vector's length and on the sum of a point's weights: both come from
@@ -483,6 +540,7 @@ mod tests {
             penalty: None,
             separation: true,
             sliding,
+            law: FrictionLaw::SteadySliding,
         }
     }
 

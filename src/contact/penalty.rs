@@ -1,5 +1,5 @@
-//! The penalty contact law with steady-sliding Coulomb friction at one contact point, its
-//! Jacobian, and a pair's summary (METHOD.md section 2).
+//! The penalty contact law at one contact point, with steady-sliding friction (METHOD.md
+//! section 2) or Coulomb stick/slip ([`super::coulomb`]), its Jacobian, and a pair's summary.
 //!
 //! With `c_k` the signed weights of a point's nodes (`+w_s` on the slave side, `-N_j` on the
 //! master side), `n` and `t` fixed (small sliding):
@@ -23,12 +23,18 @@
 //! stiffness at the first Newton iteration. Bilateral points are always closed. With
 //! friction, a bilateral point under tension (`p < 0`) gets `mu p t`, against `t`: the law of
 //! METHOD.md as written.
+//!
+//! A Coulomb pair replaces `mu p t` by the return mapping's friction force `f_T` and its
+//! block by `k A n n^T - d f_T/dw` ([`super::coulomb`]); its point state carries the slip
+//! anchor the next increment starts from.
 
-use super::pair::{ContactPair, ContactPoint, SlidingDirection};
+use super::coulomb::{self, Status, Tangential};
+use super::pair::{ContactPair, ContactPoint, FrictionLaw, SlidingDirection};
 use super::ContactError;
 use crate::vector3::{add, cross, dot, norm, scale, sub};
 
-/// The state of one contact point for a displacement field.
+/// The state of one contact point for a displacement field (and, for a Coulomb pair, the
+/// point's slip history).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PointState {
     /// Gap `g`; negative = penetration.
@@ -40,6 +46,13 @@ pub struct PointState {
     pub pressure: f64,
     /// Whether the force law is active: `g <= 0` with separation, always when bilateral.
     pub closed: bool,
+    /// Open, stick or slip (a closed steady-sliding point slips).
+    pub status: Status,
+    /// Friction force on the slave point: `mu p t` (steady sliding) or the Coulomb law's.
+    pub friction_force: [f64; 3],
+    /// The point's slip anchor after this state (Coulomb pairs; zero otherwise): the history
+    /// to carry on when this state is accepted.
+    pub anchor: [f64; 3],
 }
 
 /// A closed point's contribution to the global residual and Jacobian.
@@ -75,61 +88,113 @@ fn signed_weights(point: &ContactPoint) -> impl Iterator<Item = (usize, f64)> + 
         .chain(point.master.iter().map(|&(n, w)| (n, -w)))
 }
 
-/// Gap, normal force and pressure at `point` for nodal displacements `u` (indexed by node).
-/// `Err` if the point refers to a node `u` does not have.
-pub fn point_state(
+/// The relative displacement `w = sum c_k u_k` of the slave point from the master point.
+fn relative(
     pair: &ContactPair,
     point: &ContactPoint,
     u: &[[f64; 3]],
-) -> Result<PointState, ContactError> {
-    let mut relative = [0.0; 3];
+) -> Result<[f64; 3], ContactError> {
+    let mut w = [0.0; 3];
     for (node, c) in signed_weights(point) {
-        relative = add(relative, scale(c, displacement(pair, u, node)?));
+        w = add(w, scale(c, displacement(pair, u, node)?));
     }
-    let gap = point.initial_gap + dot(point.normal, relative);
+    Ok(w)
+}
+
+/// The normal law at `point` for relative displacement `w`, and the Coulomb return mapping
+/// from `anchor` for a Coulomb pair (ignored otherwise).
+fn state_and_tangential(
+    pair: &ContactPair,
+    point: &ContactPoint,
+    anchor: [f64; 3],
+    w: [f64; 3],
+) -> (PointState, Option<Tangential>) {
+    let gap = point.initial_gap + dot(point.normal, w);
     let closed = !pair.settings.separation || gap <= 0.0;
     let stiffness = pair.penalty * point.area;
     let normal_force = if closed { -stiffness * gap } else { 0.0 };
-    Ok(PointState {
+    let mut state = PointState {
         gap,
         normal_force,
         pressure: normal_force / point.area,
         closed,
-    })
+        status: if closed { Status::Slip } else { Status::Open },
+        friction_force: [0.0; 3],
+        anchor: [0.0; 3],
+    };
+    match pair.settings.law {
+        FrictionLaw::SteadySliding => {
+            if let (true, Some(t)) = (closed, point.tangent) {
+                state.friction_force = scale(pair.settings.friction * normal_force, t);
+            }
+            (state, None)
+        }
+        FrictionLaw::Coulomb { .. } => {
+            let law = coulomb::point_law(pair, point);
+            let tangential = coulomb::return_mapping(&law, w, anchor, normal_force, closed);
+            state.status = tangential.status;
+            state.friction_force = tangential.force;
+            state.anchor = tangential.anchor;
+            (state, Some(tangential))
+        }
+    }
 }
 
-/// The contact force on the slave point, `p n + mu p t`, for a state.
-fn slave_force(pair: &ContactPair, point: &ContactPoint, state: &PointState) -> [f64; 3] {
-    let mut f = scale(state.normal_force, point.normal);
-    if let Some(t) = point.tangent {
-        f = add(f, scale(pair.settings.friction * state.normal_force, t));
-    }
-    f
+/// Gap, normal force, pressure and friction state at `point` for nodal displacements `u`
+/// (indexed by node); `anchor` is the point's slip history (Coulomb pairs; ignored
+/// otherwise). `Err` if the point refers to a node `u` does not have.
+pub fn point_state(
+    pair: &ContactPair,
+    point: &ContactPoint,
+    anchor: [f64; 3],
+    u: &[[f64; 3]],
+) -> Result<PointState, ContactError> {
+    let w = relative(pair, point, u)?;
+    Ok(state_and_tangential(pair, point, anchor, w).0)
+}
+
+/// The contact force on the slave point, `p n` plus the friction force, for a state.
+fn slave_force(point: &ContactPoint, state: &PointState) -> [f64; 3] {
+    add(
+        scale(state.normal_force, point.normal),
+        state.friction_force,
+    )
 }
 
 /// The state of `point` and, when closed, its contribution to the residual and Jacobian (see
-/// the module doc). `Err` if the point refers to a node `u` does not have.
+/// the module doc); `anchor` as for [`point_state`]. `Err` if the point refers to a node `u`
+/// does not have.
 pub fn evaluate(
     pair: &ContactPair,
     point: &ContactPoint,
+    anchor: [f64; 3],
     u: &[[f64; 3]],
 ) -> Result<(PointState, Option<PointContribution>), ContactError> {
-    let state = point_state(pair, point, u)?;
+    let w = relative(pair, point, u)?;
+    let (state, tangential) = state_and_tangential(pair, point, anchor, w);
     if !state.closed {
         return Ok((state, None));
     }
     let weights: Vec<(usize, f64)> = signed_weights(point).collect();
-    let force = slave_force(pair, point, &state);
-    // Direction of the force's change with the approach: (n + mu t), times n^T.
-    let mut direction = point.normal;
-    if let Some(t) = point.tangent {
-        direction = add(direction, scale(pair.settings.friction, t));
-    }
+    let force = slave_force(point, &state);
     let n = point.normal;
     let stiffness = pair.penalty * point.area;
     let size = 3 * weights.len();
     let mut residual = vec![0.0; size];
     let mut jacobian = vec![0.0; size * size];
+    // -dF/dw, F the force on the slave point: k A (n + mu t) n^T for steady sliding,
+    // k A n n^T - d f_T/dw for Coulomb.
+    let block: [[f64; 3]; 3] = match tangential {
+        None => {
+            // Direction of the force's change with the approach: (n + mu t), times n^T.
+            let mut direction = n;
+            if let Some(t) = point.tangent {
+                direction = add(direction, scale(pair.settings.friction, t));
+            }
+            [0, 1, 2].map(|i| [0, 1, 2].map(|j| direction[i] * n[j]))
+        }
+        Some(t) => [0, 1, 2].map(|i| [0, 1, 2].map(|j| n[i] * n[j] - t.jacobian[i][j] / stiffness)),
+    };
     for (k, &(_, ck)) in weights.iter().enumerate() {
         for i in 0..3 {
             residual[3 * k + i] = -ck * force[i];
@@ -139,7 +204,7 @@ pub fn evaluate(
             let s = stiffness * (ck * cm);
             for i in 0..3 {
                 for j in 0..3 {
-                    jacobian[(3 * k + i) * size + 3 * m + j] = s * (direction[i] * n[j]);
+                    jacobian[(3 * k + i) * size + 3 * m + j] = s * block[i][j];
                 }
             }
         }
@@ -169,9 +234,13 @@ pub struct PressureRange {
 pub struct PairSummary {
     pub points: usize,
     pub closed: usize,
+    /// Closed points sticking (Coulomb pairs).
+    pub stick: usize,
+    /// Closed points slipping (every closed point of a steady-sliding pair).
+    pub slip: usize,
     /// Sum of the normal forces `p` on the slave points.
     pub normal_force: f64,
-    /// Sum of the friction forces `mu p t` on the slave points.
+    /// Sum of the friction forces on the slave points (`mu p t` for steady sliding).
     pub friction_force: [f64; 3],
     /// Sum of the contact forces `p n + mu p t` on the slave points (the master side gets the
     /// opposite).
@@ -189,12 +258,18 @@ pub struct PairSummary {
     pub pressure: Option<PressureRange>,
 }
 
-/// Totals and pressure range of `pair` for nodal displacements `u`.
-pub fn summarize(pair: &ContactPair, u: &[[f64; 3]]) -> Result<PairSummary, ContactError> {
+/// Totals and pressure range of `pair` for nodal displacements `u` and the pair's slip
+/// anchors (one per point; empty: none).
+pub fn summarize(
+    pair: &ContactPair,
+    anchors: &[[f64; 3]],
+    u: &[[f64; 3]],
+) -> Result<PairSummary, ContactError> {
     let states = pair
         .points
         .iter()
-        .map(|point| point_state(pair, point, u))
+        .enumerate()
+        .map(|(k, point)| point_state(pair, point, anchors.get(k).copied().unwrap_or_default(), u))
         .collect::<Result<Vec<_>, _>>()?;
     Ok(summarize_states(pair, &states))
 }
@@ -205,6 +280,8 @@ pub fn summarize_states(pair: &ContactPair, states: &[PointState]) -> PairSummar
     let mut summary = PairSummary {
         points: pair.points.len(),
         closed: 0,
+        stick: 0,
+        slip: 0,
         normal_force: 0.0,
         friction_force: [0.0; 3],
         force_on_slave: [0.0; 3],
@@ -229,16 +306,18 @@ pub fn summarize_states(pair: &ContactPair, states: &[PointState]) -> PairSummar
             continue;
         }
         summary.closed += 1;
+        match state.status {
+            Status::Stick => summary.stick += 1,
+            _ => summary.slip += 1,
+        }
         summary.closed_area += point.area;
         summary.normal_force += state.normal_force;
-        let force = slave_force(pair, point, state);
+        let force = slave_force(point, state);
         summary.force_on_slave = add(summary.force_on_slave, force);
-        if let Some(t) = point.tangent {
-            let friction = scale(pair.settings.friction * state.normal_force, t);
-            summary.friction_force = add(summary.friction_force, friction);
-            if let Some((centre, a)) = axis {
-                summary.braking_torque += dot(a, cross(sub(point.position, centre), friction));
-            }
+        let friction = state.friction_force;
+        summary.friction_force = add(summary.friction_force, friction);
+        if let Some((centre, a)) = axis {
+            summary.braking_torque += dot(a, cross(sub(point.position, centre), friction));
         }
         range.min = range.min.min(state.pressure);
         range.max = range.max.max(state.pressure);
@@ -292,6 +371,7 @@ mod tests {
                 penalty: Some(1e11),
                 separation,
                 sliding,
+                law: crate::contact::FrictionLaw::SteadySliding,
             },
             &SearchOptions::default(),
         )
@@ -333,10 +413,24 @@ mod tests {
     /// points nearer the kink are skipped (and counted, to see that few are).
     /// Returns the number of closed points checked.
     fn check_jacobian(pair: &ContactPair, u: &[[f64; 3]]) -> usize {
+        check_jacobian_from(pair, &[], u).0
+    }
+
+    /// [`check_jacobian`] from slip anchors (Coulomb pairs). A Coulomb point in slip has a
+    /// residual that is not linear (the slip direction turns): central differences then
+    /// carry a truncation error of order (h / |g_T - a|)^2 ~ 1e-8 here. Points whose state
+    /// changes within the step (the stick/slip kink) are skipped. Returns (points checked,
+    /// of which sticking, of which slipping).
+    fn check_jacobian_from(
+        pair: &ContactPair,
+        anchors: &[[f64; 3]],
+        u: &[[f64; 3]],
+    ) -> (usize, usize, usize) {
         let h = 1e-7;
-        let mut checked = 0;
-        for point in &pair.points {
-            let (state, contribution) = evaluate(pair, point, u).unwrap();
+        let (mut checked, mut stick, mut slip) = (0, 0, 0);
+        for (k, point) in pair.points.iter().enumerate() {
+            let anchor = anchors.get(k).copied().unwrap_or_default();
+            let (state, contribution) = evaluate(pair, point, anchor, u).unwrap();
             let Some(c) = contribution else {
                 assert!(!state.closed && state.normal_force == 0.0);
                 continue;
@@ -344,7 +438,23 @@ mod tests {
             if state.gap.abs() <= 2.0 * h && pair.settings.separation {
                 continue;
             }
+            let same_state = c.nodes.iter().all(|&node| {
+                (0..3).all(|j| {
+                    [h, -h].iter().all(|d| {
+                        let mut v = u.to_vec();
+                        v[node][j] += d;
+                        point_state(pair, point, anchor, &v).unwrap().status == state.status
+                    })
+                })
+            });
+            if !same_state {
+                continue;
+            }
             checked += 1;
+            match state.status {
+                Status::Stick => stick += 1,
+                _ => slip += 1,
+            }
             let size = 3 * c.nodes.len();
             let scale_j = c.jacobian.iter().fold(0.0f64, |a, b| a.max(b.abs()));
             for (m, &node) in c.nodes.iter().enumerate() {
@@ -353,8 +463,16 @@ mod tests {
                     let mut um = u.to_vec();
                     up[node][j] += h;
                     um[node][j] -= h;
-                    let rp = evaluate(pair, point, &up).unwrap().1.unwrap().residual;
-                    let rm = evaluate(pair, point, &um).unwrap().1.unwrap().residual;
+                    let rp = evaluate(pair, point, anchor, &up)
+                        .unwrap()
+                        .1
+                        .unwrap()
+                        .residual;
+                    let rm = evaluate(pair, point, anchor, &um)
+                        .unwrap()
+                        .1
+                        .unwrap()
+                        .residual;
                     for row in 0..size {
                         let fd = (rp[row] - rm[row]) / (2.0 * h);
                         let exact = c.jacobian[row * size + 3 * m + j];
@@ -367,7 +485,49 @@ mod tests {
                 }
             }
         }
-        checked
+        (checked, stick, slip)
+    }
+
+    /// A Coulomb pair's Jacobian against central differences of its residual, with points
+    /// sticking and slipping (anchors spread so that some points' springs reach the cone and
+    /// others do not), bilateral and with separation.
+    #[test]
+    fn coulomb_jacobian_matches_finite_differences_in_stick_and_slip() {
+        let mesh = pad_on_disc(1e-3);
+        for separation in [true, false] {
+            let mut p = pair(&mesh, 0.3, separation, SlidingDirection::None);
+            p.settings.law = crate::contact::FrictionLaw::Coulomb {
+                stick_stiffness: Some(1e10),
+            };
+            // Pressed 3e-3 down (p ~ k A 2e-3), slid 2e-3 along x relative to the disc on
+            // average: the spring's force k_t A |g_T - a| against mu p = 0.3 k_n A 2e-3 with
+            // k_t = k_n / 10: the anchors decide which points slip.
+            let u = displacements(&mesh, 7, 5e-4, [2e-3, 0.0, -3e-3]);
+            let mut rng = Lcg(11);
+            let anchors: Vec<[f64; 3]> = (0..p.points.len())
+                .map(|_| [2e-3 + 8e-3 * rng.next(), 4e-3 * rng.next(), 0.0])
+                .collect();
+            let (checked, stick, slip) = check_jacobian_from(&p, &anchors, &u);
+            assert!(
+                stick > 0 && slip > 0,
+                "stick {stick}, slip {slip} of {checked}"
+            );
+            assert!(
+                checked >= p.points.len() * 3 / 4,
+                "{checked} of {}",
+                p.points.len()
+            );
+            // Action = reaction: the nodal residuals of every point sum to zero.
+            for (k, point) in p.points.iter().enumerate() {
+                if let (_, Some(c)) = evaluate(&p, point, anchors[k], &u).unwrap() {
+                    for i in 0..3 {
+                        let sum: f64 = c.residual.iter().skip(i).step_by(3).sum();
+                        let size = c.residual.iter().fold(0.0f64, |a, b| a.max(b.abs()));
+                        assert!(sum.abs() <= 1e-12 * size);
+                    }
+                }
+            }
+        }
     }
 
     #[test]
@@ -378,7 +538,7 @@ mod tests {
         // Open: pad lifted by 1e-3 more; nothing is closed and the residual is zero.
         let u = displacements(&mesh, 1, 5e-4, [0.0, 0.0, 1e-3]);
         assert_eq!(check_jacobian(&friction, &u), 0);
-        assert_eq!(summarize(&friction, &u).unwrap().closed, 0);
+        assert_eq!(summarize(&friction, &[], &u).unwrap().closed, 0);
         // Closed, sliding with friction: pad pushed 3e-3 down, every point penetrates.
         let u = displacements(&mesh, 2, 5e-4, [0.0, 0.0, -3e-3]);
         assert_eq!(check_jacobian(&friction, &u), friction.points.len());
@@ -407,7 +567,7 @@ mod tests {
             let mut asymmetry = 0.0f64;
             let mut largest = 0.0f64;
             for point in &p.points {
-                let c = evaluate(&p, point, &u).unwrap().1.unwrap();
+                let c = evaluate(&p, point, [0.0; 3], &u).unwrap().1.unwrap();
                 let size = 3 * c.nodes.len();
                 for i in 0..size {
                     for j in 0..size {
@@ -439,7 +599,7 @@ mod tests {
         let mut moment = [0.0; 3];
         let mut scale_f = 0.0f64;
         for point in &p.points {
-            let c = evaluate(&p, point, &u).unwrap().1.unwrap();
+            let c = evaluate(&p, point, [0.0; 3], &u).unwrap().1.unwrap();
             let mut point_total = [0.0; 3];
             for (k, &node) in c.nodes.iter().enumerate() {
                 let f = [0, 1, 2].map(|i| -c.residual[3 * k + i]);
@@ -471,7 +631,7 @@ mod tests {
             })
             .collect();
         let p = pair(&mesh, 0.4, true, SlidingDirection::Fixed([2.0, 0.0, 0.0]));
-        let s = summarize(&p, &u).unwrap();
+        let s = summarize(&p, &[], &u).unwrap();
         let n_expected = 1e11 * 0.15 * delta;
         assert_eq!(s.closed, p.points.len());
         assert!((s.normal_force / n_expected - 1.0).abs() < 1e-13);
@@ -487,12 +647,12 @@ mod tests {
         // Turning disc: friction of size mu N, each point's along its own tangent (the sum
         // of the vectors is shorter), tangents horizontal and orthogonal to the radius.
         let p = pair(&mesh, 0.4, true, rotation());
-        let s = summarize(&p, &u).unwrap();
+        let s = summarize(&p, &[], &u).unwrap();
         assert!((s.normal_force / n_expected - 1.0).abs() < 1e-13);
         assert!(s.friction_force[2].abs() < 1e-13 * n_expected);
         let mut sum_of_sizes = 0.0;
         for point in &p.points {
-            let state = point_state(&p, point, &u).unwrap();
+            let state = point_state(&p, point, [0.0; 3], &u).unwrap();
             let t = point.tangent.unwrap();
             assert!(t[2].abs() < 1e-15);
             assert!(dot(t, sub(point.position, [0.45, 0.5, 0.0])).abs() < 1e-15);
@@ -501,7 +661,7 @@ mod tests {
         assert!((sum_of_sizes / (0.4 * n_expected) - 1.0).abs() < 1e-13);
         // Lifted instead: open everywhere, no force.
         let lifted: Vec<[f64; 3]> = u.iter().map(|v| scale(-1.0, *v)).collect();
-        let s = summarize(&p, &lifted).unwrap();
+        let s = summarize(&p, &[], &lifted).unwrap();
         assert_eq!((s.closed, s.normal_force, s.pressure), (0, 0.0, None));
     }
 
@@ -516,6 +676,7 @@ mod tests {
             penalty: None,
             separation: true,
             sliding: SlidingDirection::Fixed([0.0, 1.0, 0.0]),
+            law: crate::contact::FrictionLaw::SteadySliding,
         };
         let n = [0.6, 0.0, 0.8];
         let t = [0.0, 1.0, 0.0];
@@ -540,7 +701,7 @@ mod tests {
             *v = add(*v, scale(-2e-3, n));
         }
         assert_eq!(check_jacobian(&p, &u), 1);
-        let (state, c) = evaluate(&p, &p.points[0], &u).unwrap();
+        let (state, c) = evaluate(&p, &p.points[0], [0.0; 3], &u).unwrap();
         let c = c.unwrap();
         assert_eq!(c.nodes, vec![0, 1, 2, 3, 4]);
         let force: [f64; 3] = std::array::from_fn(|i| (0..5).map(|k| c.residual[3 * k + i]).sum());
@@ -556,7 +717,7 @@ mod tests {
             }
         }
         // A displacement field too short is an error naming the pair and the node.
-        let err = evaluate(&p, &p.points[0], &u[..4]).unwrap_err();
+        let err = evaluate(&p, &p.points[0], [0.0; 3], &u[..4]).unwrap_err();
         assert_eq!(
             err,
             ContactError::NodeOutOfRange {

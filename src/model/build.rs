@@ -3,9 +3,9 @@
 //! A deck named as the mesh brings its own supports, loads and warnings along; the
 //! study's tables add to them.
 
-use super::spec::{ModelSpec, SpringDirection};
+use super::spec::{FrictionLawName, ModelSpec, SpringDirection};
 use super::{source, Model, ModelError, Pressure};
-use crate::contact::{self, PairSettings, SearchOptions};
+use crate::contact::{self, FrictionLaw, PairSettings, SearchOptions};
 use crate::fem::springs::GroundSpring;
 use crate::fem::Support;
 use crate::mesh::{brake, Material, Mesh};
@@ -110,12 +110,29 @@ impl Model {
                 .ok_or_else(|| missing(format!("contacts[{i}].slave"), &c.slave, "surface"))?;
             let master = named(&mesh.surfaces, &c.master)
                 .ok_or_else(|| missing(format!("contacts[{i}].master"), &c.master, "surface"))?;
+            let law = match (c.friction_law, c.stick_stiffness) {
+                (FrictionLawName::SteadySliding, Some(_)) => {
+                    return Err(ModelError::Invalid {
+                        key: format!("contacts[{i}].stick_stiffness"),
+                        why: format!(
+                            "pair '{}' slides steadily (friction_law = \"steady-sliding\"): a \
+                             stick stiffness needs friction_law = \"coulomb\"",
+                            c.name
+                        ),
+                    })
+                }
+                (FrictionLawName::SteadySliding, None) => FrictionLaw::SteadySliding,
+                (FrictionLawName::Coulomb, stick_stiffness) => {
+                    FrictionLaw::Coulomb { stick_stiffness }
+                }
+            };
             let settings = PairSettings {
                 name: c.name.clone(),
                 friction: c.friction,
                 penalty: c.penalty,
                 separation: c.separation,
                 sliding: c.sliding.clone(),
+                law,
             };
             let pair =
                 contact::node_to_surface(mesh, slave, master, settings, &SearchOptions::default())

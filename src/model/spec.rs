@@ -102,6 +102,23 @@ pub struct ContactSpec {
     /// Whether the friction sweep sets this pair's mu.
     #[serde(default)]
     pub sweep: bool,
+    /// `steady-sliding` (friction `mu p` along `sliding` wherever closed: the disc under
+    /// the pads) or `coulomb` (stick and slip, for surfaces with no imposed sliding).
+    #[serde(default)]
+    pub friction_law: FrictionLawName,
+    /// Coulomb pairs: tangential stiffness per unit area while sticking (Pa/m); default the
+    /// penalty / 100.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stick_stiffness: Option<f64>,
+}
+
+/// The friction law of a contact pair, as a study file names it.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum FrictionLawName {
+    #[default]
+    SteadySliding,
+    Coulomb,
 }
 
 fn yes() -> bool {

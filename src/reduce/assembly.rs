@@ -701,6 +701,7 @@ mod tests {
             penalty: None,
             separation: b.separation,
             sliding: SlidingDirection::None,
+            law: contact::FrictionLaw::SteadySliding,
         };
         let point = ContactPoint {
             slave: vec![(2 * k, 1.0)],
@@ -731,7 +732,7 @@ mod tests {
         let mut j = Mat::zeros(size, size);
         for (k, b) in se.header.boundary.iter().enumerate() {
             let pair = penalty_pair(k, b, friction);
-            let (_, c) = contact::evaluate(&pair, &pair.points[0], &u).unwrap();
+            let (_, c) = contact::evaluate(&pair, &pair.points[0], [0.0; 3], &u).unwrap();
             if let Some(c) = c {
                 for (a, &node) in c.nodes.iter().enumerate() {
                     for i in 0..3 {
@@ -796,7 +797,10 @@ mod tests {
                 cutoff_hz: 2e4,
                 modes: 2,
                 size,
-                other_contacts: vec![("piston".into(), vec![true, false])],
+                other_contacts: vec![(
+                    "piston".into(),
+                    vec![contact::Status::Stick, contact::Status::Open],
+                )],
                 mesh_hash: "mesh".into(),
                 study_hash: "study".into(),
                 boundary,
@@ -809,9 +813,10 @@ mod tests {
         let u = nodes(&se.equilibrium, 3);
         for k in 0..3 {
             let pair = penalty_pair(k, &se.header.boundary[k], MU_SE);
-            se.header.boundary[k].normal_force = contact::point_state(&pair, &pair.points[0], &u)
-                .unwrap()
-                .normal_force;
+            se.header.boundary[k].normal_force =
+                contact::point_state(&pair, &pair.points[0], [0.0; 3], &u)
+                    .unwrap()
+                    .normal_force;
         }
         let (rc, _) = penalty_terms(&se, &se.equilibrium, MU_SE);
         se.load = (0..size)

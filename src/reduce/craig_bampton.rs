@@ -28,7 +28,7 @@
 use super::interface::ReducedInterface;
 use super::superelement::{BoundaryPair, SuperElement, SuperElementHeader};
 use crate::analysis::modes::{self, ModeBand, ModesError, ModesOptions};
-use crate::analysis::statics::{self, StaticsError};
+use crate::analysis::statics::{self, Configuration, StaticsError};
 use crate::contact::{self, ContactError, ContactPair};
 use crate::model::Operators;
 use crate::petsc::{
@@ -153,7 +153,7 @@ pub fn build_with_basis<'rt>(
     comm: Comm<'rt>,
     reduced: &ReducedInterface,
     operators: &Operators<'rt>,
-    equilibrium: &[[f64; 3]],
+    equilibrium: Configuration<'_>,
     swept: &[usize],
     friction: f64,
     cutoff_hz: f64,
@@ -178,7 +178,7 @@ pub fn build_superelement<'rt>(
     comm: Comm<'rt>,
     reduced: &ReducedInterface,
     operators: &Operators<'rt>,
-    equilibrium: &[[f64; 3]],
+    equilibrium: Configuration<'_>,
     swept: &[usize],
     friction: f64,
     cutoff_hz: f64,
@@ -199,12 +199,16 @@ fn build<'rt>(
     comm: Comm<'rt>,
     reduced: &ReducedInterface,
     operators: &Operators<'rt>,
-    equilibrium: &[[f64; 3]],
+    equilibrium: Configuration<'_>,
     swept: &[usize],
     friction: f64,
     cutoff_hz: f64,
 ) -> Result<CraigBampton<'rt>, SuperElementError> {
     let model = &reduced.model;
+    let Configuration {
+        displacement: equilibrium,
+        slip,
+    } = equilibrium;
     if !(cutoff_hz.is_finite() && cutoff_hz > 0.0) {
         return Err(SuperElementError::Cutoff(cutoff_hz));
     }
@@ -219,18 +223,20 @@ fn build<'rt>(
     }
     let boundary = boundary(reduced, operators, swept)?;
     let dofs = &operators.dofs;
-    let kept: Vec<ContactPair> = model
-        .pairs
-        .iter()
-        .enumerate()
-        .filter(|(i, _)| !swept.contains(i))
-        .map(|(_, p)| p.clone())
+    let kept_indices: Vec<usize> = (0..model.pairs.len())
+        .filter(|i| !swept.contains(i))
         .collect();
+    let kept: Vec<ContactPair> = kept_indices
+        .iter()
+        .map(|&i| model.pairs[i].clone())
+        .collect();
+    let kept_slip = slip.subset(&kept_indices);
 
-    // 1. K_t: the kept contacts' tangent on a copy of K.
+    // 1. K_t: the kept contacts' tangent on a copy of K (Coulomb pairs: the consistent
+    // tangent of their stick or slip state at the equilibrium).
     let mut k_t = operators.stiffness.duplicate()?;
     if !kept.is_empty() {
-        statics::add_contact_tangent(comm, &mut k_t, dofs, &kept, equilibrium, 1.0)?;
+        statics::add_contact_tangent(comm, &mut k_t, dofs, &kept, &kept_slip, equilibrium, 1.0)?;
     }
     // Only friction of a kept pair makes K_t unsymmetric (decided from the data, the same on
     // every rank, rather than by a tolerance on the entries).
@@ -411,7 +417,7 @@ fn build<'rt>(
     for &(i, k, c, d) in &boundary.points {
         let pair = &model.pairs[i];
         let point = &pair.points[k];
-        let state = contact::point_state(pair, point, equilibrium)?;
+        let state = contact::point_state(pair, point, slip.anchor(i, k), equilibrium)?;
         pairs_out.push(BoundaryPair {
             pair: pair.settings.name.clone(),
             pad_position: model.position(c),
@@ -427,13 +433,18 @@ fn build<'rt>(
     }
     let other_contacts = kept
         .iter()
-        .map(|pair| {
-            let closed = pair
+        .enumerate()
+        .map(|(i, pair)| {
+            let states = pair
                 .points
                 .iter()
-                .map(|pt| contact::point_state(pair, pt, equilibrium).map(|s| s.closed))
+                .enumerate()
+                .map(|(k, pt)| {
+                    contact::point_state(pair, pt, kept_slip.anchor(i, k), equilibrium)
+                        .map(|s| s.status)
+                })
                 .collect::<Result<Vec<_>, _>>()?;
-            Ok((pair.settings.name.clone(), closed))
+            Ok((pair.settings.name.clone(), states))
         })
         .collect::<Result<Vec<_>, ContactError>>()?;
     let superelement = SuperElement {

@@ -13,6 +13,7 @@
 //!   super-element only when a kept contact changed state, else the current one moved to the
 //!   new equilibrium ([`super::LocalBasis::coordinates`]).
 
+use crate::contact::Status;
 use serde::{Deserialize, Serialize};
 
 /// How a sweep chooses its super-elements.
@@ -35,8 +36,9 @@ impl Strategy {
 }
 
 /// The state of every kept (non-swept) contact pair's points: per pair, its name and each
-/// point's closed flag, as [`super::SuperElementHeader::other_contacts`] records it.
-pub type ContactStates = [(String, Vec<bool>)];
+/// point's state (open, stick, slip), as [`super::SuperElementHeader::other_contacts`]
+/// records it.
+pub type ContactStates = [(String, Vec<Status>)];
 
 /// What the adaptive strategy does at a friction value.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -64,20 +66,17 @@ pub fn decide(current: Option<&ContactStates>, now: &ContactStates) -> Decision 
                 before.len()
             )),
             Some((_, before)) => {
-                let opened = before
-                    .iter()
-                    .zip(states)
-                    .filter(|(b, s)| **b && !**s)
-                    .count();
-                let closed = before
-                    .iter()
-                    .zip(states)
-                    .filter(|(b, s)| !**b && **s)
-                    .count();
-                if opened + closed > 0 {
-                    changes.push(format!(
-                        "pair '{name}': {closed} point(s) closed, {opened} opened"
-                    ));
+                // Every kind of change, counted by (from, to), in a fixed order.
+                let mut counts = std::collections::BTreeMap::<(Status, Status), usize>::new();
+                for (b, s) in before.iter().zip(states).filter(|(b, s)| b != s) {
+                    *counts.entry((*b, *s)).or_default() += 1;
+                }
+                if !counts.is_empty() {
+                    let list: Vec<String> = counts
+                        .iter()
+                        .map(|((b, s), n)| format!("{n} {} -> {}", b.name(), s.name()))
+                        .collect();
+                    changes.push(format!("pair '{name}': {}", list.join(", ")));
                 }
             }
         }
@@ -98,9 +97,20 @@ pub fn decide(current: Option<&ContactStates>, now: &ContactStates) -> Decision 
 mod tests {
     use super::*;
 
-    fn states(list: &[(&str, &[bool])]) -> Vec<(String, Vec<bool>)> {
+    /// 'o' open, 't' stick, 's' slip.
+    fn states(list: &[(&str, &str)]) -> Vec<(String, Vec<Status>)> {
         list.iter()
-            .map(|(n, s)| (n.to_string(), s.to_vec()))
+            .map(|(n, s)| {
+                let states = s
+                    .chars()
+                    .map(|c| match c {
+                        'o' => Status::Open,
+                        't' => Status::Stick,
+                        _ => Status::Slip,
+                    })
+                    .collect();
+                (n.to_string(), states)
+            })
             .collect()
     }
 
@@ -114,25 +124,33 @@ mod tests {
 
     #[test]
     fn same_states_reuse_even_without_kept_pairs() {
-        let a = states(&[("caliper/pad", &[true, false, true])]);
+        let a = states(&[("caliper/pad", "tos")]);
         assert_eq!(decide(Some(&a), &a), Decision::Reuse);
         assert_eq!(decide(Some(&[]), &[]), Decision::Reuse);
     }
 
     #[test]
     fn a_changed_point_rebuilds_and_says_which() {
-        let before = states(&[("caliper/pad", &[true, false, true]), ("piston", &[true])]);
-        let after = states(&[("caliper/pad", &[false, true, true]), ("piston", &[true])]);
+        let before = states(&[("caliper/pad", "tots"), ("piston", "t")]);
+        let after = states(&[("caliper/pad", "otss"), ("piston", "t")]);
         assert_eq!(
             decide(Some(&before), &after),
-            Decision::Rebuild("pair 'caliper/pad': 1 point(s) closed, 1 opened".into())
+            Decision::Rebuild(
+                "pair 'caliper/pad': 1 open -> stick, 1 stick -> open, 1 stick -> slip".into()
+            )
+        );
+        // Stick and slip matter as much as open and closed: the tangent changes.
+        let slipped = states(&[("caliper/pad", "tots"), ("piston", "s")]);
+        assert_eq!(
+            decide(Some(&before), &slipped),
+            Decision::Rebuild("pair 'piston': 1 stick -> slip".into())
         );
     }
 
     #[test]
     fn pairs_that_appear_or_vanish_rebuild() {
-        let before = states(&[("a", &[true])]);
-        let after = states(&[("b", &[true])]);
+        let before = states(&[("a", "t")]);
+        let after = states(&[("b", "t")]);
         assert_eq!(
             decide(Some(&before), &after),
             Decision::Rebuild("pair 'b' is new; pair 'a' is gone".into())

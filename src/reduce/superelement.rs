@@ -55,8 +55,9 @@ pub struct SuperElementHeader {
     /// Reduced size: 6 per boundary pair + modes + 1 (the static correction).
     pub size: usize,
     /// State of every other (non-swept) contact pair's points at the equilibrium: per pair,
-    /// its name and each point's closed flag (a change means a new super-element).
-    pub other_contacts: Vec<(String, Vec<bool>)>,
+    /// its name and each point's state, open, stick or slip (a change means a new
+    /// super-element).
+    pub other_contacts: Vec<(String, Vec<crate::contact::Status>)>,
     /// Hashes of the mesh and of the study it came from (hex), to refuse another's.
     pub mesh_hash: String,
     pub study_hash: String,

@@ -28,7 +28,8 @@ use std::path::{Path, PathBuf};
 /// The first 8 bytes of every super-element file.
 pub const MAGIC: [u8; 8] = *b"SQUEALSE";
 /// The layout's version; a reader refuses any other.
-pub const FORMAT_VERSION: u32 = 1;
+/// 2: the other contacts' states are open/stick/slip (1: closed flags).
+pub const FORMAT_VERSION: u32 = 2;
 /// Magic, version and header length.
 const PREAMBLE: u64 = 20;
 
@@ -355,6 +356,7 @@ fn read_from(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::contact::Status;
     use crate::reduce::superelement::BoundaryPair;
 
     /// A size-14 super-element (2 pairs, 1 mode) whose values include the awkward ones:
@@ -390,7 +392,10 @@ mod tests {
                 cutoff_hz: 12_000.0,
                 modes: 1,
                 size: n,
-                other_contacts: vec![("piston/pad".into(), vec![true, false, true])],
+                other_contacts: vec![(
+                    "piston/pad".into(),
+                    vec![Status::Stick, Status::Open, Status::Slip],
+                )],
                 mesh_hash: "0123abcd".into(),
                 study_hash: "feed".into(),
                 boundary: vec![pair(0), pair(1)],

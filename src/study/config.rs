@@ -6,7 +6,8 @@ use crate::analysis::cea::RayleighDamping;
 use crate::contact::SlidingDirection;
 use crate::model::spec::ModelSpec;
 pub use crate::model::spec::{
-    ContactSpec, MaterialSpec, MeshSpec, PressureSpec, SpringDirection, SpringSpec, SupportSpec,
+    ContactSpec, FrictionLawName, MaterialSpec, MeshSpec, PressureSpec, SpringDirection,
+    SpringSpec, SupportSpec,
 };
 use crate::reduce::{DiscCoupling, GridSize, InterfaceSettings, RadiusChoice, Strategy, Weighting};
 use std::path::{Path, PathBuf};
@@ -228,6 +229,8 @@ impl Study {
             separation: true,
             sliding: rotation.clone(),
             sweep: true,
+            friction_law: Default::default(),
+            stick_stiffness: None,
         };
         let mut springs = Vec::new();
         for side in ["inboard", "outboard"] {
@@ -435,6 +438,32 @@ impl Study {
                     ));
                 }
             }
+            match (c.friction_law, c.stick_stiffness) {
+                (FrictionLawName::SteadySliding, Some(_)) => {
+                    return Err(bad(
+                        format!("contacts[{i}].stick_stiffness"),
+                        "a stick stiffness needs friction_law = \"coulomb\" (this pair slides \
+                         steadily)"
+                            .into(),
+                    ))
+                }
+                (FrictionLawName::Coulomb, Some(k)) if !(k > 0.0 && k.is_finite()) => {
+                    return Err(bad(
+                        format!("contacts[{i}].stick_stiffness"),
+                        format!("must be positive (Pa/m), got {k}"),
+                    ))
+                }
+                _ => {}
+            }
+            if c.friction_law == FrictionLawName::Coulomb && c.sliding != SlidingDirection::None {
+                return Err(bad(
+                    format!("contacts[{i}].sliding"),
+                    "a coulomb pair slips where its forces take it: it has no imposed sliding \
+                     direction (remove `sliding`, or use friction_law = \"steady-sliding\" for \
+                     a disc turning under a pad)"
+                        .into(),
+                ));
+            }
         }
         for (i, s) in self.springs.iter().enumerate() {
             if !(s.stiffness > 0.0 && s.stiffness.is_finite()) {
@@ -505,6 +534,41 @@ mod tests {
         );
         let e = Study::read(&p).unwrap_err().to_string();
         assert!(e.contains("contacts[0].friction"), "{e}");
+        let pair = "[[contacts]]\nname = \"a\"\nslave = \"s\"\nmaster = \"m\"\nfriction = 0.15\n";
+        for (name, extra, key) in [
+            (
+                "stick.toml",
+                "friction_law = \"coulomb\"\nstick_stiffness = -1e12\n",
+                "contacts[0].stick_stiffness",
+            ),
+            (
+                "stick0.toml",
+                "friction_law = \"coulomb\"\nstick_stiffness = 0.0\n",
+                "contacts[0].stick_stiffness",
+            ),
+            (
+                "steady.toml",
+                "stick_stiffness = 1e12\n",
+                "contacts[0].stick_stiffness",
+            ),
+            (
+                "moving.toml",
+                "friction_law = \"coulomb\"\nsliding = { Fixed = [1.0, 0.0, 0.0] }\n",
+                "contacts[0].sliding",
+            ),
+            ("law.toml", "friction_law = \"stick\"\n", "friction_law"),
+        ] {
+            let p = write(name, &format!("{pair}{extra}"));
+            let e = Study::read(&p).unwrap_err().to_string();
+            assert!(e.contains(name) && e.contains(key), "{e}");
+        }
+        let p = write(
+            "coulomb.toml",
+            &format!("{pair}friction_law = \"coulomb\"\nstick_stiffness = 1e12\n"),
+        );
+        let s = Study::read(&p).unwrap();
+        assert_eq!(s.contacts[0].friction_law, FrictionLawName::Coulomb);
+        assert_eq!(s.contacts[0].stick_stiffness, Some(1e12));
     }
 
     #[test]

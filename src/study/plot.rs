@@ -1590,6 +1590,42 @@ pub fn sweep_tracks(tracks: &[Track], title: &str) -> Figure {
     figure
 }
 
+/// One contact pair's point states across a sweep: its name and, per mu, the shares of
+/// its points that are open, sticking and slipping (percent).
+pub type PairStates = (String, Vec<(f64, [f64; 3])>);
+
+/// The contact state of each pair across the sweep (the paper's Figure 15): one panel per
+/// pair, the percentage of its points open, sticking and slipping against mu.
+pub fn contact_states(pairs: &[PairStates], title: &str) -> Figure {
+    let mut figure = Figure::new(title, 900.0, 180.0 + 200.0 * pairs.len() as f64);
+    for (name, points) in pairs {
+        let mut points = points.clone();
+        points.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let mut panel = Panel::new(name.as_str(), FRICTION_LABEL, "Points (%)");
+        panel.y_range = Some((0.0, 100.0));
+        for (k, (state, color, marker)) in [
+            ("open", "#0072B2", Marker::TriangleUp),
+            ("stick", "#009E73", Marker::Square),
+            ("slip", "#D55E00", Marker::Circle),
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            let mut series = Series::new(
+                state,
+                points.iter().map(|(mu, shares)| (*mu, shares[k])).collect(),
+                Style::LineMarkers,
+            );
+            series.color = Some(color.to_string());
+            series.marker = Some(marker);
+            panel.series.push(series);
+        }
+        figure.panels.push(panel);
+    }
+    figure.shared_x = true;
+    figure
+}
+
 /// Writes the figure's SVG whole or not at all (temporary file renamed into place).
 pub fn write_svg(path: &Path, figure: &Figure) -> std::io::Result<()> {
     super::report::write_atomically(path, figure.to_svg().as_bytes())

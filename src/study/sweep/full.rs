@@ -10,7 +10,7 @@ use super::{
 use crate::analysis::cea::{self, CeaOptions, RayleighDamping};
 use crate::analysis::restraint::{self, Body};
 use crate::analysis::statics::{self, StaticOptions, StaticProblem};
-use crate::contact;
+use crate::contact::{self, SlipHistory};
 use crate::mesh::Mesh;
 use crate::model::{self, Model, Operators};
 use crate::petsc::{Comm, Matrix};
@@ -35,8 +35,9 @@ pub struct FullModel<'rt> {
     rayleigh: Option<RayleighDamping>,
     increments: usize,
     ranks: usize,
-    /// The previous point's equilibrium (warm start).
-    previous: Option<Vec<[f64; 3]>>,
+    /// The previous point's equilibrium (warm start) and the slip history after it (where
+    /// the Coulomb pairs start from).
+    previous: Option<(Vec<[f64; 3]>, SlipHistory)>,
     /// Where each swept pair's contact forces land on its pad surface.
     spread: Vec<SweptSurface>,
     /// The reduced interface this model was made with (none for the full model): what a
@@ -182,24 +183,29 @@ impl<'rt> FullModel<'rt> {
             load,
             ..
         } = &self.operators;
+        let no_slip = SlipHistory::default();
         let problem = StaticProblem {
             dofs,
             stiffness,
             load,
             pairs: &self.model.pairs,
+            slip: self.previous.as_ref().map_or(&no_slip, |p| &p.1),
             bodies: &self.bodies,
         };
         let equilibrium = statics::solve(
             comm,
             &problem,
-            self.previous.as_deref(),
+            self.previous.as_ref().map(|p| &p.0[..]),
             &StaticOptions {
                 increments: self.increments,
                 ..Default::default()
             },
         )
         .with_context(|| format!("static equilibrium at mu = {mu}"))?;
-        self.previous = Some(equilibrium.displacement.clone());
+        self.previous = Some((
+            equilibrium.displacement.clone(),
+            equilibrium.slip_after.clone(),
+        ));
         Ok(equilibrium)
     }
 
@@ -215,18 +221,19 @@ impl<'rt> FullModel<'rt> {
         comm: Comm<'rt>,
         mu: f64,
         u: &[[f64; 3]],
+        slip: &SlipHistory,
         f: impl FnOnce(&Operators<'rt>) -> anyhow::Result<T>,
     ) -> anyhow::Result<T> {
         self.model.set_swept_friction(mu);
         let Operators {
             dofs, stiffness, ..
         } = &mut self.operators;
-        statics::add_contact_tangent(comm, stiffness, dofs, &self.model.pairs, u, 1.0)?;
+        statics::add_contact_tangent(comm, stiffness, dofs, &self.model.pairs, slip, u, 1.0)?;
         let result = f(&self.operators);
         let Operators {
             dofs, stiffness, ..
         } = &mut self.operators;
-        statics::add_contact_tangent(comm, stiffness, dofs, &self.model.pairs, u, -1.0)?;
+        statics::add_contact_tangent(comm, stiffness, dofs, &self.model.pairs, slip, u, -1.0)?;
         result
     }
 }
@@ -266,8 +273,9 @@ impl<'rt> FrictionModel<'rt> for FullModel<'rt> {
         let u = &equilibrium.displacement;
         let mut contact_reports = Vec::new();
         let mut normal_total = 0.0;
-        for pair in &self.model.pairs {
-            let s = contact::summarize(pair, u)?;
+        let slip = &equilibrium.slip_before;
+        for (pair, states) in self.model.pairs.iter().zip(&equilibrium.contact) {
+            let s = contact::summarize_states(pair, states);
             normal_total += s.normal_force;
             contact_reports.push(PairReport::new(&pair.settings.name, &s));
         }
@@ -287,12 +295,12 @@ impl<'rt> FrictionModel<'rt> for FullModel<'rt> {
         // industrial preset a separate tangent is 0.5 GB more at the memory peak, and K
         // comes back to within one rounding per entry, far below anything the next static
         // solve resolves.
-        statics::add_contact_tangent(comm, k, dofs, &self.model.pairs, u, 1.0)?;
+        statics::add_contact_tangent(comm, k, dofs, &self.model.pairs, slip, u, 1.0)?;
         let result = collective(
             comm,
             cea::solve(comm, k, m, self.damping.as_ref(), &self.cea),
         );
-        statics::add_contact_tangent(comm, k, dofs, &self.model.pairs, u, -1.0)?;
+        statics::add_contact_tangent(comm, k, dofs, &self.model.pairs, slip, u, -1.0)?;
         let result = result?;
         let cea_seconds = t_cea.elapsed().as_secs_f64();
         // Friction moves modes little from one point to the next: the next CEA sizes its
@@ -434,6 +442,20 @@ impl FullModel<'_> {
         let n = model.mesh.nodes.len();
         let mut contact_pressure = vec![0.0; n];
         let mut contact_closed = vec![-1.0; n];
+        // Every pair's state at its slave nodes (node-to-surface pairs; a reduced
+        // interface's own nodes are not drawn).
+        let mut contact_state = vec![-1.0; n];
+        for (pair, states) in model.pairs.iter().zip(contact) {
+            for (pt, s) in pair.points.iter().zip(states) {
+                if pt.slave_node < n && pt.master_face.is_some() {
+                    contact_state[pt.slave_node] = match s.status {
+                        contact::Status::Open => 0.0,
+                        contact::Status::Stick => 1.0,
+                        contact::Status::Slip => 2.0,
+                    };
+                }
+            }
+        }
         let mut map = ContactMap::default();
         for swept in &self.spread {
             let pair = &model.pairs[swept.pair];
@@ -493,6 +515,7 @@ impl FullModel<'_> {
             static_displacement: mesh_part(displacement.to_vec(), &model.mesh),
             contact_pressure,
             contact_closed,
+            contact_state,
             unstable,
         }
     }

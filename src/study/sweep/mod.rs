@@ -94,6 +94,8 @@ pub struct PointFields {
     pub contact_pressure: Vec<f64>,
     /// 1 closed, 0 open at each slave node, -1 elsewhere.
     pub contact_closed: Vec<f64>,
+    /// Every pair's state at its slave nodes: 0 open, 1 stick, 2 slip; -1 elsewhere.
+    pub contact_state: Vec<f64>,
     /// Nodal von Mises stress of the static displacement (Pa in SI).
     pub von_mises: Vec<f64>,
     pub unstable: Vec<UnstableShape>,

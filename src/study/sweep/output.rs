@@ -132,6 +132,10 @@ pub struct PairReport {
     pub name: String,
     pub points: usize,
     pub closed: usize,
+    /// Closed points sticking (Coulomb pairs) and slipping (every closed point of a
+    /// steady-sliding pair); open = points - closed.
+    pub stick: usize,
+    pub slip: usize,
     pub normal_force: f64,
     /// Magnitude of the resultant friction force on the slave.
     pub friction_force: f64,
@@ -153,6 +157,8 @@ impl PairReport {
             name: name.to_string(),
             points: s.points,
             closed: s.closed,
+            stick: s.stick,
+            slip: s.slip,
             normal_force: s.normal_force,
             friction_force: s.friction_force.iter().map(|c| c * c).sum::<f64>().sqrt(),
             braking_torque: s.braking_torque,
@@ -235,6 +241,7 @@ pub fn write_point(
         Field::vector("static_displacement", &fields.static_displacement),
         Field::scalar("contact_pressure", fields.contact_pressure.clone()),
         Field::scalar("contact_closed", fields.contact_closed.clone()),
+        Field::scalar("contact_state", fields.contact_state.clone()),
         Field::scalar("von_mises", fields.von_mises.clone()),
     ];
     for shape in &fields.unstable {
@@ -321,6 +328,27 @@ fn write_plots(
             (format!("track {}", t.id), pts, unstable.contains(&t.id))
         })
         .collect();
+    // Each pair's open / stick / slip shares against mu (the paper's Figure 15).
+    let mut pairs: Vec<plot::PairStates> = Vec::new();
+    for r in reports {
+        for (k, c) in r.contact.iter().enumerate() {
+            if pairs.len() <= k {
+                pairs.push((c.name.clone(), Vec::new()));
+            }
+            let share = |n: usize| 100.0 * n as f64 / c.points.max(1) as f64;
+            pairs[k].1.push((
+                r.friction,
+                [share(c.points - c.closed), share(c.stick), share(c.slip)],
+            ));
+        }
+    }
+    plot::write_svg(
+        &dir.join("contact_states.svg"),
+        &plot::contact_states(
+            &pairs,
+            "Contact states: share of each pair's points open, sticking and slipping",
+        ),
+    )?;
     plot::write_svg(
         &dir.join("friction_sweep.svg"),
         &plot::sweep_tracks(

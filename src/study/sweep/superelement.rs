@@ -15,8 +15,8 @@ use super::full::{mesh_part, FullModel};
 use super::output::{ModelInfo, PairReport, SuperElementInfo, SuperElementPoint};
 use super::{FrictionModel, PointOutcome, SweepPointReport, UnstableShape};
 use crate::analysis::cea::ComplexMode;
-use crate::analysis::statics::StaticSolution;
-use crate::contact::{self, PointState};
+use crate::analysis::statics::{self, StaticSolution};
+use crate::contact::{self, PointState, SlipHistory, Status};
 use crate::mesh::hash;
 use crate::mesh::Mesh;
 use crate::petsc::{Comm, DenseMatrix, Vector};
@@ -54,6 +54,9 @@ struct Current {
     /// 1-based: the how-manieth built in this sweep.
     index: usize,
     made_at: f64,
+    /// The slip history its equilibrium was reached from (the kept Coulomb pairs' tangent
+    /// and states at that equilibrium come from it).
+    slip: SlipHistory,
 }
 
 /// A friction sweep of the super-element assembly of a reduced-interface model.
@@ -176,7 +179,7 @@ impl<'rt> SuperElementModel<'rt> {
             comm,
             reduced,
             self.base.operators(),
-            &equilibrium.displacement,
+            equilibrium.configuration(),
             &self.swept,
             mu,
             self.settings.cutoff_hz,
@@ -194,6 +197,7 @@ impl<'rt> SuperElementModel<'rt> {
             boundary_points: cb.boundary_points,
             index: self.built,
             made_at: mu,
+            slip: equilibrium.slip_before.clone(),
         });
         Ok(())
     }
@@ -233,14 +237,17 @@ impl<'rt> SuperElementModel<'rt> {
             .zip(&current.boundary_points)
         {
             let p = &model.pairs[i];
+            let anchor = equilibrium.slip_before.anchor(i, k);
             pair.normal_force =
-                contact::point_state(p, &p.points[k], &equilibrium.displacement)?.normal_force;
+                contact::point_state(p, &p.points[k], anchor, &equilibrium.displacement)?
+                    .normal_force;
         }
+        current.slip = equilibrium.slip_before.clone();
         Ok(())
     }
 
     /// The kept (non-swept) pairs' states at an equilibrium.
-    fn kept_states(&self, equilibrium: &StaticSolution) -> Vec<(String, Vec<bool>)> {
+    fn kept_states(&self, equilibrium: &StaticSolution) -> Vec<(String, Vec<Status>)> {
         self.base
             .model
             .pairs
@@ -250,7 +257,7 @@ impl<'rt> SuperElementModel<'rt> {
             .map(|(i, p)| {
                 (
                     p.settings.name.clone(),
-                    equilibrium.contact[i].iter().map(|s| s.closed).collect(),
+                    equilibrium.contact[i].iter().map(|s| s.status).collect(),
                 )
             })
             .collect()
@@ -475,12 +482,13 @@ impl<'rt> FrictionModel<'rt> for SuperElementModel<'rt> {
             let mut shapes = DenseMatrix::zeros(comm, local_rows, 2 * m.max(1))?;
             shapes.write_local(|i, c| if c < 2 * m { expanded[(i, c + 1)] } else { 0.0 })?;
             let (ku, mu_shapes, diagonal) =
-                self.base.with_tangent(comm, mu, &u_static, |operators| {
-                    let ku = operators.stiffness.mult_dense(&shapes)?.local_values()?;
-                    let mu_shapes = operators.mass.mult_dense(&shapes)?.local_values()?;
-                    let diagonal = operators.mass.diagonal()?.read()?.to_vec();
-                    Ok((ku, mu_shapes, diagonal))
-                })?;
+                self.base
+                    .with_tangent(comm, mu, &u_static, &current.slip, |operators| {
+                        let ku = operators.stiffness.mult_dense(&shapes)?.local_values()?;
+                        let mu_shapes = operators.mass.mult_dense(&shapes)?.local_values()?;
+                        let diagonal = operators.mass.diagonal()?.read()?.to_vec();
+                        Ok((ku, mu_shapes, diagonal))
+                    })?;
             // Per mode, in the mass-weighted norms of structural dynamics (D = diag M):
             // eps = |r|_D^-1 / (|lambda|^2 |u|_D), the share of the mode's inertia force left
             // unbalanced in the reduced-interface model. The reduced contact and disc nodes
@@ -546,25 +554,29 @@ impl<'rt> FrictionModel<'rt> for SuperElementModel<'rt> {
         // Contact states: every pair's from the penalty law at the expanded equilibrium, on
         // every rank (the same data, so a failure is every rank's); the swept pairs' are then
         // replaced on rank 0 by the dense laws'.
-        let mut states: Vec<Vec<PointState>> = model
-            .pairs
-            .iter()
-            .map(|p| {
-                p.points
-                    .iter()
-                    .map(|pt| contact::point_state(p, pt, &u_static))
-                    .collect::<Result<_, _>>()
-            })
-            .collect::<Result<_, _>>()?;
+        let mut states: Vec<Vec<PointState>> =
+            statics::contact_states(&model.pairs, &current.slip, &u_static)?;
         let (report, tracking_shapes, fields) = match &dense.root {
             Some((statics, cea, start_residual, static_seconds, cea_seconds)) if root => {
                 for (state, &(i, k)) in statics.pairs.iter().zip(&current.boundary_points) {
-                    let area = model.pairs[i].points[k].area;
+                    let point = &model.pairs[i].points[k];
+                    let area = point.area;
                     states[i][k] = PointState {
                         gap: -state.approach,
                         normal_force: state.force,
                         pressure: if area > 0.0 { state.force / area } else { 0.0 },
                         closed: state.closed,
+                        status: if state.closed {
+                            Status::Slip
+                        } else {
+                            Status::Open
+                        },
+                        // The swept pairs slide steadily: mu F along the sliding direction.
+                        friction_force: point
+                            .tangent
+                            .map(|t| crate::vector3::scale(mu * state.force, t))
+                            .unwrap_or_default(),
+                        anchor: [0.0; 3],
                     };
                 }
                 let mut normal_total = 0.0;
