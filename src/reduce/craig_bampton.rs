@@ -32,7 +32,7 @@ use crate::analysis::statics::{self, Configuration, StaticsError};
 use crate::contact::{self, ContactError, ContactPair};
 use crate::model::Operators;
 use crate::petsc::{
-    Comm, DenseMatrix, DirectPackage, FactoredMatrix, Factorization, IndexSet, PetscError,
+    Comm, DenseMatrix, DirectPackage, FactoredMatrix, Factorization, IndexSet, Matrix, PetscError,
     Structure,
 };
 use faer::linalg::solvers::Solve;
@@ -286,16 +286,16 @@ fn build<'rt>(
     let started = std::time::Instant::now();
     let factored = FactoredMatrix::new(comm, &k_ii, DirectPackage::Mumps, Factorization::Lu)?;
     let solved = factored.solve_block(&rhs)?.local_values()?;
-    drop(factored);
     drop(rhs);
-
-    let mut k_sym = if symmetric {
-        k_ii
+    // With friction kept, the factorisation and K_II itself serve the skew corrections.
+    let (mut k_sym, unsymmetric) = if symmetric {
+        drop(factored);
+        (k_ii, None)
     } else {
         let mut s = k_ii.transpose()?;
         s.add(1.0, &k_ii, Structure::Different)?;
         s.scale(0.5)?;
-        s
+        (s, Some((factored, k_ii)))
     };
     k_sym.mark_symmetric()?;
     let constraint_seconds = started.elapsed().as_secs_f64();
@@ -311,14 +311,25 @@ fn build<'rt>(
             ..Default::default()
         },
     )?;
-    let n_m = found.shapes.len();
-    let shapes: Vec<Vec<f64>> = found
+    let mut shapes: Vec<Vec<f64>> = found
         .shapes
         .iter()
         .map(|v| Ok(v.read()?.to_vec()))
         .collect::<Result<_, PetscError>>()?;
+    let n_fixed = shapes.len();
+    drop(found);
+    if let Some((factored, k_ii)) = unsymmetric {
+        let corrections = skew_corrections(comm, &factored, &k_ii, &k_sym, &m_ii, &shapes)?;
+        tracing::info!(
+            "super-element: {} static corrections of the fixed-interface modes for the skew \
+             (friction) part of K_II",
+            corrections.len()
+        );
+        shapes.extend(corrections);
+    }
+    let n_m = shapes.len();
     tracing::info!(
-        "super-element: {n_b} boundary equations, {} interior, {n_m} fixed-interface modes below {cutoff_hz} Hz; constraint modes (one LU, one block solve) {constraint_seconds:.1} s, fixed-interface modes {:.1} s",
+        "super-element: {n_b} boundary equations, {} interior, {n_fixed} fixed-interface modes below {cutoff_hz} Hz; constraint modes (one LU, one block solve) {constraint_seconds:.1} s, fixed-interface modes {:.1} s",
         k_t.size()?.0 - n_b,
         started.elapsed().as_secs_f64()
     );
@@ -470,4 +481,80 @@ fn build<'rt>(
         boundary_points: boundary.points.iter().map(|&(i, k, _, _)| (i, k)).collect(),
         boundary_equations: boundary.equations,
     })
+}
+/// Relative size below which a correction is taken as already in the span of the modes.
+const CORRECTION_TOLERANCE: f64 = 1e-8;
+
+/// The static corrections of the fixed-interface modes for the skew part of K_II:
+/// `K_II^-1 K_skew Phi` (`K_skew = K_II - sym(K_II)`, the kept contacts' friction), made
+/// M_II-orthogonal to the modes and to each other, without those already in their span.
+///
+/// Why they are needed. The modes come from sym(K_II), which does not see the friction of a
+/// kept contact; its block `mu k A t n^T` (steady sliding) or `mu k A s n^T` (Coulomb slip)
+/// turns the normal contact force of a mode into tangential loads that redistribute the
+/// contact pressure. The penalty makes that redistribution stiff: a basis without it forces
+/// the wrong pressure pattern, and a Galerkin projection is then off by far more than the
+/// truncation (a 1890 Hz mode of the tiny brake with a kept frictional pad came out at
+/// 1540 Hz). The static response to those loads is what the basis lacks to first order.
+fn skew_corrections<'rt>(
+    comm: Comm<'rt>,
+    factored: &FactoredMatrix<'rt>,
+    k_ii: &Matrix<'rt>,
+    k_sym: &Matrix<'rt>,
+    m_ii: &Matrix<'rt>,
+    shapes: &[Vec<f64>],
+) -> Result<Vec<Vec<f64>>, SuperElementError> {
+    let n_m = shapes.len();
+    if n_m == 0 {
+        return Ok(Vec::new());
+    }
+    let rows = shapes[0].len();
+    let mut phi = DenseMatrix::zeros(comm, rows, n_m)?;
+    phi.write_local(|i, j| shapes[j][i])?;
+    let full = k_ii.mult_dense(&phi)?.local_values()?;
+    let sym = k_sym.mult_dense(&phi)?.local_values()?;
+    let mut skew = DenseMatrix::zeros(comm, rows, n_m)?;
+    skew.write_local(|i, j| full[(i, j)] - sym[(i, j)])?;
+    let e = factored.solve_block(&skew)?;
+    drop(skew);
+    // E - Phi (Phi^T M Phi)^-1 Phi^T M E: M-orthogonal to the modes.
+    let m_e = m_ii.mult_dense(&e)?;
+    let m_phi = m_ii.mult_dense(&phi)?;
+    let gram_phi = phi.transpose_mult(&m_phi)?;
+    let coupling = phi.transpose_mult(&m_e)?;
+    let c = gram_phi
+        .llt(faer::Side::Lower)
+        .map_err(|err| SuperElementError::Fit(format!("modes' Gram matrix: {err:?}")))?
+        .solve(&coupling);
+    let e_local = e.local_values()?;
+    let mut orth = DenseMatrix::zeros(comm, rows, n_m)?;
+    orth.write_local(|i, j| {
+        let along: f64 = (0..n_m).map(|k| shapes[k][i] * c[(k, j)]).sum();
+        e_local[(i, j)] - along
+    })?;
+    // Orthonormal in M through the eigenvectors of their Gram matrix, keeping the
+    // directions that are not (to round-off) in the modes' span. Every rank holds the same
+    // Gram matrix, so every rank keeps the same columns.
+    let m_orth = m_ii.mult_dense(&orth)?;
+    let gram = orth.transpose_mult(&m_orth)?;
+    // The corrections' size before the projection: what "in the span" is measured against.
+    let gram_e = e.transpose_mult(&m_e)?;
+    let before: f64 = (0..n_m).map(|j| gram_e[(j, j)]).sum();
+    let evd = gram
+        .self_adjoint_eigen(faer::Side::Lower)
+        .map_err(|err| SuperElementError::Fit(format!("corrections' Gram matrix: {err:?}")))?;
+    let (values, vectors) = (evd.S().column_vector(), evd.U());
+    let keep: Vec<usize> = (0..n_m)
+        .filter(|&k| values[k] > CORRECTION_TOLERANCE * before)
+        .collect();
+    let o = orth.local_values()?;
+    Ok(keep
+        .iter()
+        .map(|&k| {
+            let scale = 1.0 / values[k].sqrt();
+            (0..rows)
+                .map(|i| scale * (0..n_m).map(|j| o[(i, j)] * vectors[(j, k)]).sum::<f64>())
+                .collect()
+        })
+        .collect())
 }
