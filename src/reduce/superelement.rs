@@ -50,7 +50,8 @@ pub struct SuperElementHeader {
     pub friction: f64,
     /// Fixed-interface modes kept up to this frequency (Hz).
     pub cutoff_hz: f64,
-    /// Number of fixed-interface modes kept.
+    /// Interior basis vectors: the fixed-interface modes kept, then (with a kept frictional
+    /// contact) their static corrections for the skew part of K_II.
     pub modes: usize,
     /// Reduced size: 6 per boundary pair + modes + 1 (the static correction).
     pub size: usize,
