@@ -90,6 +90,22 @@ pub struct SuperElementInfo {
 }
 
 impl SweepPointReport {
+    /// "; open/stick/slip points: name a/b/c, ..." for the pairs with sticking points (only
+    /// Coulomb pairs stick); empty when none does.
+    fn sticking_pairs(&self) -> String {
+        let list: Vec<String> = self
+            .contact
+            .iter()
+            .filter(|c| c.stick > 0)
+            .map(|c| format!("{} {}/{}/{}", c.name, c.points - c.closed, c.stick, c.slip))
+            .collect();
+        if list.is_empty() {
+            String::new()
+        } else {
+            format!("; open/stick/slip points: {}", list.join(", "))
+        }
+    }
+
     /// The per-point log line.
     pub fn log_line(&self) -> String {
         format!(
@@ -104,7 +120,8 @@ impl SweepPointReport {
             self.cea_seconds,
             self.seconds,
             self.peak_rss_mib_all_ranks
-        ) + &self
+        ) + &self.sticking_pairs()
+            + &self
             .superelement
             .as_ref()
             .map(|se| {
