@@ -24,7 +24,7 @@ pub struct ModelSpec<'a> {
 pub struct MeshSpec {
     /// A .msh or .inp file, relative to the study file.
     pub file: Option<PathBuf>,
-    /// Built-in brake preset (tiny, small, medium, industrial); default small.
+    /// Built-in brake preset (tiny, small, medium, industrial; tiny-caliper ... industrial-caliper for the floating-caliper layout); default small.
     pub preset: Option<String>,
     /// Built-in brake parameters (replace the preset's).
     pub brake: Option<BrakeParams>,
