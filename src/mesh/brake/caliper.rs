@@ -742,6 +742,54 @@ mod tests {
             let (r, t) = (x[0].hypot(x[1]), x[1].atan2(x[0]) - f.centre);
             assert!(r > rb0 - w && r < rb1 + w && t.abs() < c.half_angle);
         }
+        let expected_sets = [
+            "backplate_inboard_piston",
+            "backplate_inboard_piston_ring",
+            "backplate_outboard_caliper",
+            "bracket_inboard_leading",
+            "bracket_inboard_trailing",
+            "bracket_mount",
+            "bracket_outboard_leading",
+            "bracket_outboard_trailing",
+            "bracket_pins",
+            "caliper_bore",
+            "caliper_bore_bottom",
+            "caliper_fingers",
+            "caliper_pins",
+            "disc_hub",
+            "disc_inboard_face",
+            "disc_outboard_face",
+            "pad_inboard_abutment_leading",
+            "pad_inboard_abutment_trailing",
+            "pad_inboard_friction_face",
+            "pad_inboard_guides",
+            "pad_outboard_abutment_leading",
+            "pad_outboard_abutment_trailing",
+            "pad_outboard_friction_face",
+            "pad_outboard_guides",
+            "piston_bottom",
+            "piston_face",
+            "piston_outer",
+        ];
+        assert_eq!(
+            m.node_sets.keys().map(String::as_str).collect::<Vec<_>>(),
+            expected_sets
+        );
+        assert_eq!(m.surfaces.len(), expected_sets.len() - 6);
+        let parts: Vec<(&str, &str)> = m
+            .parts
+            .iter()
+            .map(|p| (p.name.as_str(), p.material.as_deref().unwrap()))
+            .collect();
+        assert_eq!(
+            &parts[5..],
+            [
+                ("piston", "steel"),
+                ("caliper", "ductile_iron"),
+                ("bracket", "ductile_iron")
+            ]
+        );
+        assert_eq!(m.materials["ductile_iron"].young, p.ductile_iron.young);
         // Clockwise swaps leading and trailing.
         let cw = build(&BrakeParams {
             rotation: crate::mesh::brake::Rotation::Clockwise,
