@@ -47,6 +47,12 @@ pub struct Elastic {
 }
 
 /// Mesh density: numbers of hexahedral cells (each cut into 6 tetrahedra) per direction.
+///
+/// In the floating-caliper layout the pads' lines also pass through the edges of the contact
+/// ring under the piston, every segment cut into cells no larger than the nominal ones
+/// (`pad_radial`, `pad_circumferential` over the lining), so a pad has at least as many
+/// cells as asked; and the nominal pad cell (the smaller of the two) is the cell size of the
+/// piston, the caliper and the bracket.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct Divisions {
