@@ -266,9 +266,13 @@ impl<'rt> FrictionModel<'rt> for FullModel<'rt> {
         let u = &equilibrium.displacement;
         let mut contact_reports = Vec::new();
         let mut normal_total = 0.0;
-        for pair in &self.model.pairs {
+        for (pair, &swept) in self.model.pairs.iter().zip(&self.model.swept) {
             let s = contact::summarize(pair, u)?;
-            normal_total += s.normal_force;
+            // The disc/pad pairs carry the brake load to the disc; the other pairs of a
+            // floating caliper (piston, fingers, abutments) carry it on the way there.
+            if swept {
+                normal_total += s.normal_force;
+            }
             contact_reports.push(PairReport::new(&pair.settings.name, &s));
         }
         let static_seconds = t_static.elapsed().as_secs_f64();
