@@ -51,7 +51,7 @@ enum Command {
     Mesh {
         /// A .msh or .inp file to convert; the built-in brake when absent.
         mesh: Option<PathBuf>,
-        /// Built-in brake preset (tiny, small, medium, industrial).
+        /// Built-in brake preset (tiny, small, medium, industrial; tiny-caliper ... industrial-caliper for the floating-caliper layout).
         #[arg(long, default_value = "small")]
         preset: String,
         /// Output .msh file (a .vtu with the same stem is written beside it).
@@ -60,7 +60,7 @@ enum Command {
     },
     /// Time mesh generation, assembly and the modal solve on built-in presets (medians).
     Bench {
-        /// Comma-separated presets (tiny, small, medium, industrial).
+        /// Comma-separated presets (tiny, small, medium, industrial; tiny-caliper ... industrial-caliper for the floating-caliper layout).
         #[arg(long, default_value = "tiny,small,medium", value_delimiter = ',')]
         presets: Vec<String>,
         /// Runs per preset (the median is reported).
@@ -146,7 +146,7 @@ enum Command {
         /// A .msh or .inp file; the built-in brake when absent. An .inp deck's *FREQUENCY
         /// step (supports, number of modes, upper frequency) is run as written.
         mesh: Option<PathBuf>,
-        /// Built-in brake preset (tiny, small, medium, industrial).
+        /// Built-in brake preset (tiny, small, medium, industrial; tiny-caliper ... industrial-caliper for the floating-caliper layout).
         #[arg(long, default_value = "small")]
         preset: String,
         /// Every mode from 0 up to this frequency (Hz).

@@ -1,6 +1,8 @@
-//! Grounded springs: a stiffness k along a direction d at a node adds k d d^T to its 3x3
-//! diagonal block. They hold parts the way real calipers do (pad guides and abutments on a
-//! bracket not modelled as a body).
+//! Springs. Grounded: a stiffness k along a direction d at a node adds k d d^T to its 3x3
+//! diagonal block; they hold parts the way real calipers do (pad guides and abutments on a
+//! bracket not modelled as a body). Two-node: k d d^T between two nodes (the guide pins
+//! between a meshed caliper and bracket, a piston's seal). Coupling: a node tied to a
+//! weighted combination of nodes (the reduced interface).
 
 use super::dofs::DofMap;
 use crate::petsc::{Matrix, PetscError, PetscInt};
@@ -85,4 +87,98 @@ pub fn add_coupling_springs(
         k.add_block(&idx, &idx, &block)?;
     }
     k.assemble()
+}
+
+/// A spring between two nodes along a direction (a guide pin, a piston seal): energy
+/// (k/2) (d . (u_a - u_b))^2, force -k d d^T (u_a - u_b) on node a and its opposite on node b.
+/// A rigid translation moves both nodes alike and stores nothing; the nodes need not
+/// coincide (then a rigid rotation stretches it, as any offset spring).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct TwoNodeSpring {
+    pub nodes: [usize; 2],
+    /// Unit direction.
+    pub direction: [f64; 3],
+    /// N/m (force per relative displacement along `direction`).
+    pub stiffness: f64,
+}
+
+impl TwoNodeSpring {
+    /// Its 6x6 stiffness over (u_a, u_b): [[k d d^T, -k d d^T], [-k d d^T, k d d^T]].
+    pub fn matrix(&self) -> [[f64; 6]; 6] {
+        let d = self.direction;
+        let mut m = [[0.0; 6]; 6];
+        for (i, row) in m.iter_mut().enumerate() {
+            for (j, entry) in row.iter_mut().enumerate() {
+                let sign = if (i < 3) == (j < 3) { 1.0 } else { -1.0 };
+                *entry = sign * self.stiffness * (d[i % 3] * d[j % 3]);
+            }
+        }
+        m
+    }
+}
+
+/// Adds the two-node springs whose first node this rank owns (each counts once) to K
+/// (already assembled: assembles again; the pattern must hold the node pairs). Collective.
+pub fn add_two_node_springs(
+    k: &mut Matrix,
+    dofs: &DofMap,
+    springs: &[TwoNodeSpring],
+) -> Result<(), PetscError> {
+    let owned = dofs.owned_nodes();
+    for s in springs.iter().filter(|s| owned.contains(&s.nodes[0])) {
+        let idx: Vec<PetscInt> = s
+            .nodes
+            .iter()
+            .flat_map(|&n| dofs.node_equations(n).map(|e| e as PetscInt))
+            .collect();
+        let block: Vec<f64> = s.matrix().iter().flatten().copied().collect();
+        k.add_block(&idx, &idx, &block)?;
+    }
+    k.assemble()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn energy(s: &TwoNodeSpring, u: [f64; 6]) -> f64 {
+        let m = s.matrix();
+        0.5 * (0..6)
+            .map(|i| (0..6).map(|j| u[i] * m[i][j] * u[j]).sum::<f64>())
+            .sum::<f64>()
+    }
+
+    #[test]
+    fn a_two_node_spring_stores_nothing_in_a_translation_and_k_along_its_direction() {
+        let n = (1.0f64 + 4.0 + 9.0).sqrt();
+        let s = TwoNodeSpring {
+            nodes: [3, 8],
+            direction: [1.0 / n, -2.0 / n, 3.0 / n],
+            stiffness: 2.5e7,
+        };
+        for t in [[1.0, 0.0, 0.0], [0.3, -0.7, 0.2], [0.0, 0.0, -1.0]] {
+            let u = [t[0], t[1], t[2], t[0], t[1], t[2]];
+            assert!(energy(&s, u).abs() < 1e-9, "{t:?}");
+        }
+        // Node a moved by e along d: force k e on it, energy k e^2 / 2.
+        let e = 1e-4;
+        let d = s.direction;
+        let u = [e * d[0], e * d[1], e * d[2], 0.0, 0.0, 0.0];
+        let want = 0.5 * s.stiffness * e * e;
+        assert!((energy(&s, u) - want).abs() < 1e-12 * want);
+        let m = s.matrix();
+        let force: Vec<f64> = (0..6)
+            .map(|i| (0..6).map(|j| m[i][j] * u[j]).sum())
+            .collect();
+        for c in 0..3 {
+            assert!((force[c] - s.stiffness * e * d[c]).abs() < 1e-9);
+            assert!((force[3 + c] + force[c]).abs() < 1e-9);
+        }
+        // Across the direction: nothing.
+        let across = [2.0 / n, 1.0 / n, 0.0];
+        let u = [across[0], across[1], across[2], 0.0, 0.0, 0.0];
+        assert!(energy(&s, u).abs() < 1e-9);
+        // Symmetric.
+        assert!((0..6).all(|i| (0..6).all(|j| m[i][j] == m[j][i])));
+    }
 }

@@ -105,7 +105,8 @@ fn meshes() -> Vec<(String, Box<dyn Fn() -> Mesh>)> {
 }
 
 /// Recorded from the meshers as they were before `mesh::structured` replaced them (commit
-/// be80488); see the module doc for how to update deliberately.
+/// be80488), the floating-caliper presets when that layout was added; see the module doc
+/// for how to update deliberately.
 const PINNED: &[(&str, Fingerprint)] = &[
     (
         "brake tiny",
@@ -149,6 +150,50 @@ const PINNED: &[(&str, Fingerprint)] = &[
             0xa8cab3035bc9f798,
             0x1ea83e1e1de94d5f,
             0xb9105ed32548b096,
+        ],
+    ),
+    (
+        "brake tiny-caliper",
+        [
+            0x0ab9bdb93098c81b,
+            0x5976e3e093363074,
+            0x75f7f4e3f43a4c65,
+            0xee604e02f2d3e2e8,
+            0xc3315e8c23c49ad5,
+            0x1f57273556d94180,
+        ],
+    ),
+    (
+        "brake small-caliper",
+        [
+            0x3eb95495ff4333ff,
+            0x475df206a5657409,
+            0x46e1bc313821c03c,
+            0xf52225fa9c34f81b,
+            0xbb3dc74f905d05a8,
+            0x74c7b3a6c47766c0,
+        ],
+    ),
+    (
+        "brake medium-caliper",
+        [
+            0x63a4ac2837b773da,
+            0x1da349b9fba3a114,
+            0x19a82e7205c21dd3,
+            0xf89d900c21503666,
+            0xbdddbab5448f6bc9,
+            0x49fa0ce1fb174c43,
+        ],
+    ),
+    (
+        "brake industrial-caliper",
+        [
+            0xf3d7077ad8018f21,
+            0x1dcbe918312e53fc,
+            0xbee8989c05d7de68,
+            0x45657448a63aa10c,
+            0xb8e9b7b7385c8bf5,
+            0xc43d7a8b08ad3dfd,
         ],
     ),
     (

@@ -214,6 +214,34 @@ impl Grid {
         })
     }
 
+    /// (nodes, elements) that [`Self::mesh`] would make with this `cell_tag`: every refined
+    /// point of a meshed cell (all 27 are used by its six tetrahedra) counted once.
+    pub fn count<T>(&self, cell_tag: impl Fn([usize; 3]) -> Option<T>) -> (usize, usize) {
+        let cells = self.cells();
+        let n = self.points();
+        let mut used = vec![false; n[0] * n[1] * n[2]];
+        let mut elements = 0;
+        let sweep = [0, 1, 2];
+        for i in 0..cells[0] {
+            for j in 0..cells[1] {
+                for k in 0..cells[2] {
+                    if cell_tag([i, j, k]).is_none() {
+                        continue;
+                    }
+                    elements += 6;
+                    for a in 0..3 {
+                        for b in 0..3 {
+                            for c in 0..3 {
+                                used[self.key(sweep, [2 * i + a, 2 * j + b, 2 * k + c])] = true;
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        (used.iter().filter(|&&u| u).count(), elements)
+    }
+
     /// Appends the TET10 mesh of the grid's cells to `mesh`: nodes numbered from
     /// `mesh.nodes.len()`, elements from `mesh.elements.len()`. A cell is meshed when
     /// `cell_tag` gives it a tag (`None` leaves a hole: the lining under a backplate ear).
@@ -434,6 +462,10 @@ mod tests {
         );
         assert_eq!(m.elements.len(), 12);
         assert_eq!(m.nodes.len(), 2 * 3 * 3 * 3);
+        let hole = |c: [usize; 3]| (c[0] != 1).then_some(());
+        assert_eq!(grid.count(hole), (m.nodes.len(), m.elements.len()));
+        let ring = unit_grid([2, 4, 1], [false, true, false]);
+        assert_eq!(ring.count(|_| Some(())), (5 * 8 * 3, 6 * 8));
         assert!(meshed.elements.iter().all(|o| o.tag == o.cell[0]));
     }
 

@@ -1,10 +1,10 @@
-//! A model's PETSc operators: the DOF map (mesh and extra nodes), K with every spring and
+//! A model's PETSc operators: the DOF map (mesh and extra nodes), K with every spring, link and
 //! coupling on a pattern that also holds every contact point's coupling, M and the load
 //! vector. Made at the last moment, from the plain data of [`Model`].
 
 use super::Model;
 use crate::fem::element::MassRule;
-use crate::fem::springs::{add_coupling_springs, add_ground_springs};
+use crate::fem::springs::{add_coupling_springs, add_ground_springs, add_two_node_springs};
 use crate::fem::{assemble as fem_assemble, AssemblyError, DofError, DofMap, StructureOptions};
 use crate::petsc::{Comm, Matrix, PetscError, Vector};
 
@@ -64,13 +64,15 @@ pub fn assemble<'rt>(
     let dofs = dof_map(comm, model)?;
     let contact = crate::contact::contact_groups(&model.pairs);
     let couplings: Vec<Vec<usize>> = model.couplings.iter().map(|c| c.nodes()).collect();
+    let links: Vec<[usize; 2]> = model.links.iter().map(|l| l.nodes).collect();
     let pattern = fem_assemble::pattern(
         &dofs,
         mesh.elements
             .iter()
             .map(|c| &c[..])
             .chain(contact.iter().map(|g| &g[..]))
-            .chain(couplings.iter().map(|g| &g[..])),
+            .chain(couplings.iter().map(|g| &g[..]))
+            .chain(links.iter().map(|g| &g[..])),
     );
     let (mut stiffness, mass) = collective(
         comm,
@@ -85,6 +87,9 @@ pub fn assemble<'rt>(
     add_ground_springs(&mut stiffness, &dofs, &model.springs)?;
     if !model.couplings.is_empty() {
         add_coupling_springs(&mut stiffness, &dofs, &model.couplings)?;
+    }
+    if !model.links.is_empty() {
+        add_two_node_springs(&mut stiffness, &dofs, &model.links)?;
     }
     let load = collective(
         comm,

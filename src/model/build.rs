@@ -3,10 +3,10 @@
 //! A deck named as the mesh brings its own supports, loads and warnings along; the
 //! study's tables add to them.
 
-use super::spec::{FrictionLawName, ModelSpec, SpringDirection};
+use super::spec::{FrictionLawName, LinkSpec, ModelSpec, SpringDirection};
 use super::{source, Model, ModelError, Pressure};
 use crate::contact::{self, FrictionLaw, PairSettings, SearchOptions};
-use crate::fem::springs::GroundSpring;
+use crate::fem::springs::{GroundSpring, TwoNodeSpring};
 use crate::fem::Support;
 use crate::mesh::{brake, Material, Mesh};
 use std::collections::BTreeMap;
@@ -95,6 +95,13 @@ impl Model {
             let nodes = set_nodes(mesh, &s.set)
                 .ok_or_else(|| missing(format!("springs[{i}].set"), &s.set, "node set"))?;
             model.springs.extend(ground_springs(mesh, &nodes, s, i)?);
+        }
+        for (i, l) in spec.links.iter().enumerate() {
+            let from = set_nodes(mesh, &l.set)
+                .ok_or_else(|| missing(format!("links[{i}].set"), &l.set, "node set"))?;
+            let to = set_nodes(mesh, &l.to)
+                .ok_or_else(|| missing(format!("links[{i}].to"), &l.to, "node set"))?;
+            model.links.extend(link_springs(mesh, &from, &to, l, i)?);
         }
         for (i, p) in spec.pressures.iter().enumerate() {
             let surface = named(&mesh.surfaces, &p.surface)
@@ -216,6 +223,73 @@ fn ground_springs(
             direction,
             stiffness: each,
         });
+    }
+    Ok(springs)
+}
+
+/// A link's springs: each node of `from` tied to its nearest node of `to` along the axis and
+/// along two directions across it, each stiffness shared equally by the nodes of `from`.
+fn link_springs(
+    mesh: &Mesh,
+    from: &[usize],
+    to: &[usize],
+    l: &LinkSpec,
+    i: usize,
+) -> Result<Vec<TwoNodeSpring>, ModelError> {
+    let invalid = |key: String, why: String| ModelError::Invalid { key, why };
+    let length = l.axis.iter().map(|c| c * c).sum::<f64>().sqrt();
+    if !(length > 0.0 && length.is_finite()) {
+        return Err(invalid(
+            format!("links[{i}].axis"),
+            format!("must be a finite non-zero vector, got {:?}", l.axis),
+        ));
+    }
+    if from.is_empty() || to.is_empty() {
+        return Err(invalid(
+            format!("links[{i}]"),
+            format!("'{}' or '{}' has no nodes", l.set, l.to),
+        ));
+    }
+    let axis = l.axis.map(|c| c / length);
+    // Two unit vectors across the axis: the axis crossed with the coordinate axis least
+    // along it, then the axis crossed with that.
+    let least = (0..3)
+        .min_by(|&a, &b| axis[a].abs().total_cmp(&axis[b].abs()))
+        .unwrap_or(0);
+    let mut e = [0.0; 3];
+    e[least] = 1.0;
+    let unit = |v: [f64; 3]| {
+        let n = v.iter().map(|c| c * c).sum::<f64>().sqrt();
+        v.map(|c| c / n)
+    };
+    let across1 = unit(crate::vector3::cross(axis, e));
+    let across2 = crate::vector3::cross(axis, across1);
+    let share = from.len() as f64;
+    let mut springs = Vec::with_capacity(3 * from.len());
+    for &a in from {
+        let x = mesh.nodes[a];
+        let b = to
+            .iter()
+            .copied()
+            .min_by(|&p, &q| {
+                let d = |n: usize| crate::vector3::sub(mesh.nodes[n], x);
+                let (dp, dq) = (d(p), d(q));
+                crate::vector3::dot(dp, dp).total_cmp(&crate::vector3::dot(dq, dq))
+            })
+            .unwrap_or(to[0]);
+        for (direction, total) in [
+            (axis, l.axial),
+            (across1, l.transverse),
+            (across2, l.transverse),
+        ] {
+            if total > 0.0 {
+                springs.push(TwoNodeSpring {
+                    nodes: [a, b],
+                    direction,
+                    stiffness: total / share,
+                });
+            }
+        }
     }
     Ok(springs)
 }

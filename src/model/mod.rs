@@ -15,7 +15,7 @@ pub use assemble::{assemble, Operators};
 pub use error::ModelError;
 
 use crate::contact::ContactPair;
-use crate::fem::springs::{CouplingSpring, GroundSpring};
+use crate::fem::springs::{CouplingSpring, GroundSpring, TwoNodeSpring};
 use crate::fem::Support;
 use crate::mesh::{Face, Mesh};
 
@@ -39,6 +39,8 @@ pub struct Model {
     pub extra_nodes: Vec<[f64; 3]>,
     pub supports: Vec<Support>,
     pub springs: Vec<GroundSpring>,
+    /// Springs between two nodes (guide pins, a piston seal).
+    pub links: Vec<TwoNodeSpring>,
     /// Springs tying a node to a weighted combination of nodes (distributing couplings).
     pub couplings: Vec<CouplingSpring>,
     pub pressures: Vec<Pressure>,

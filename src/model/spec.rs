@@ -1,5 +1,5 @@
 //! The model as a user describes it in a study file: mesh source, materials, supports,
-//! springs, pressures and contact pairs, by name. Plain serde data; the study file embeds
+//! springs, links, pressures and contact pairs, by name. Plain serde data; the study file embeds
 //! these tables and [`crate::model::Model::from_spec`] resolves the names against the mesh.
 
 use crate::contact::SlidingDirection;
@@ -13,6 +13,7 @@ pub struct ModelSpec<'a> {
     pub materials: &'a [MaterialSpec],
     pub supports: &'a [SupportSpec],
     pub springs: &'a [SpringSpec],
+    pub links: &'a [LinkSpec],
     pub pressures: &'a [PressureSpec],
     pub contacts: &'a [ContactSpec],
 }
@@ -24,7 +25,7 @@ pub struct ModelSpec<'a> {
 pub struct MeshSpec {
     /// A .msh or .inp file, relative to the study file.
     pub file: Option<PathBuf>,
-    /// Built-in brake preset (tiny, small, medium, industrial); default small.
+    /// Built-in brake preset (tiny, small, medium, industrial; tiny-caliper ... industrial-caliper for the floating-caliper layout); default small.
     pub preset: Option<String>,
     /// Built-in brake parameters (replace the preset's).
     pub brake: Option<BrakeParams>,
@@ -73,6 +74,32 @@ pub struct SpringSpec {
     pub direction: SpringDirection,
     /// Total stiffness of the set (N/m), shared equally by its nodes.
     pub stiffness: f64,
+}
+
+/// Springs between two bodies (guide pins, a piston seal): each node of `set` tied to the
+/// nearest node of `to` by springs along `axis` (stiffness `axial`) and across it (two
+/// springs perpendicular to it and to each other, each of stiffness `transverse`: the same
+/// radially and tangentially). Totals of the link, shared equally by the nodes of `set`.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LinkSpec {
+    /// For messages and reports.
+    pub name: String,
+    /// Node set (or surface) whose every node gets the springs.
+    pub set: String,
+    /// Node set (or surface) of the other body: each node of `set` is tied to its nearest.
+    pub to: String,
+    /// The link's axis (any length; default z, the disc axis).
+    #[serde(default = "z_axis")]
+    pub axis: [f64; 3],
+    /// Total stiffness along the axis, N/m (>= 0).
+    pub axial: f64,
+    /// Total stiffness across the axis in every direction, N/m (>= 0).
+    pub transverse: f64,
+}
+
+fn z_axis() -> [f64; 3] {
+    [0.0, 0.0, 1.0]
 }
 
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]

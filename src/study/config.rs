@@ -4,10 +4,11 @@
 
 use crate::analysis::cea::RayleighDamping;
 use crate::contact::SlidingDirection;
+use crate::mesh::brake::{self, BrakeParams, Layout};
 use crate::model::spec::ModelSpec;
 pub use crate::model::spec::{
-    ContactSpec, FrictionLawName, MaterialSpec, MeshSpec, PressureSpec, SpringDirection,
-    SpringSpec, SupportSpec,
+    ContactSpec, FrictionLawName, LinkSpec, MaterialSpec, MeshSpec, PressureSpec,
+    SpringDirection, SpringSpec, SupportSpec,
 };
 use crate::reduce::{DiscCoupling, GridSize, InterfaceSettings, RadiusChoice, Strategy, Weighting};
 use std::path::{Path, PathBuf};
@@ -24,6 +25,9 @@ pub struct Study {
     pub supports: Vec<SupportSpec>,
     #[serde(default)]
     pub springs: Vec<SpringSpec>,
+    /// Springs between two bodies' node sets (guide pins, piston seal).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub links: Vec<LinkSpec>,
     #[serde(default)]
     pub pressures: Vec<PressureSpec>,
     #[serde(default)]
@@ -189,6 +193,62 @@ impl ReductionSpec {
     }
 }
 
+/// The brake line pressure of the built-in studies, Pa.
+pub const LINE_PRESSURE: f64 = 2e6;
+
+/// The disc/pad pair of one side (Table 1: mu 0.5, separation; the swept pair).
+fn disc_pad_pair(side: &str) -> ContactSpec {
+    table1_pair(
+        &format!("disc/pad {side}"),
+        &format!("pad_{side}_friction_face"),
+        &format!("disc_{side}_face"),
+        0.5,
+        true,
+        true,
+    )
+}
+
+/// One contact pair of the paper's Table 1, pad side slave: the one place that builds the
+/// built-in studies' pairs. `swept`: the disc/pad pair, friction along the disc's rotation
+/// (counter-clockwise seen from +z) and set by the sweep.
+///
+/// The other pairs (piston/pad, caliper/pad, bracket/pad, mu 0.15) have no imposed sliding:
+/// Coulomb stick and slip, with the default stick stiffness (the penalty / 100).
+fn table1_pair(
+    name: &str,
+    slave: &str,
+    master: &str,
+    friction: f64,
+    separation: bool,
+    swept: bool,
+) -> ContactSpec {
+    let sliding = if swept {
+        SlidingDirection::DiscRotation {
+            centre: [0.0; 3],
+            axis: [0.0, 0.0, 1.0],
+            sense: 1.0,
+        }
+    } else {
+        SlidingDirection::None
+    };
+    ContactSpec {
+        name: name.into(),
+        slave: slave.into(),
+        master: master.into(),
+        friction,
+        penalty: None,
+        separation,
+        sliding,
+        sweep: swept,
+        friction_law: if swept {
+            FrictionLawName::SteadySliding
+        } else {
+            FrictionLawName::Coulomb
+        },
+        stick_stiffness: None,
+    }
+}
+
 #[derive(Debug, thiserror::Error)]
 pub enum ConfigError {
     #[error("{file}: {source}")]
@@ -208,30 +268,24 @@ pub enum ConfigError {
 }
 
 impl Study {
-    /// The built-in brake study: the paper's Table 1 contact set adapted to the built-in
-    /// brake. Disc/pad pairs with separation and friction along the disc's rotation (the
-    /// sweep); the piston and caliper, not modelled as bodies, become the brake pressure on
-    /// the backplates; the bracket becomes stiff springs on the trailing abutments (normal
+    /// The built-in study of a preset: [`Self::builtin_floating_caliper`] for the
+    /// floating-caliper presets (`tiny-caliper` ... `industrial-caliper`),
+    /// [`Self::builtin_spring_held`] for the others (`tiny` ... `industrial`, and unknown
+    /// names, which the model stage then refuses).
+    pub fn builtin(preset: &str) -> Study {
+        match brake::preset(preset) {
+            Some(p) if p.floating_caliper() => Study::builtin_floating_caliper(preset),
+            _ => Study::builtin_spring_held(preset),
+        }
+    }
+
+    /// The built-in spring-held brake study: the paper's Table 1 contact set adapted to the
+    /// built-in brake. Disc/pad pairs with separation and friction along the disc's rotation
+    /// (the sweep); the piston and caliper, not modelled as bodies, become the brake pressure
+    /// on the backplates; the bracket becomes stiff springs on the trailing abutments (normal
     /// to them) and the guides radial springs, so each pad is held against every rigid
     /// motion the disc contact does not hold.
-    pub fn builtin(preset: &str) -> Study {
-        let rotation = SlidingDirection::DiscRotation {
-            centre: [0.0; 3],
-            axis: [0.0, 0.0, 1.0],
-            sense: 1.0,
-        };
-        let disc_pad = |side: &str| ContactSpec {
-            name: format!("disc/pad {side}"),
-            slave: format!("pad_{side}_friction_face"),
-            master: format!("disc_{side}_face"),
-            friction: 0.5,
-            penalty: None,
-            separation: true,
-            sliding: rotation.clone(),
-            sweep: true,
-            friction_law: Default::default(),
-            stick_stiffness: None,
-        };
+    pub fn builtin_spring_held(preset: &str) -> Study {
         let mut springs = Vec::new();
         for side in ["inboard", "outboard"] {
             springs.push(SpringSpec {
@@ -257,6 +311,7 @@ impl Study {
                 components: "xyz".into(),
             }],
             springs,
+            links: vec![],
             // About 5 kN per pad on the built-in backplates (a 2 MPa line pressure on a
             // 2,500 mm^2 piston).
             pressures: vec![
@@ -269,7 +324,119 @@ impl Study {
                     value: 2e6,
                 },
             ],
-            contacts: vec![disc_pad("inboard"), disc_pad("outboard")],
+            contacts: ["inboard", "outboard"].map(disc_pad_pair).to_vec(),
+            analysis: AnalysisSpec::default(),
+            reduction: None,
+            output: default_output(),
+        }
+    }
+
+    /// The built-in floating-caliper study (the paper's brake, section 2): the disc clamped
+    /// at its hub, the bracket at its mount; the hydraulic pressure on the piston bottom and,
+    /// opposite and equal in force, on the caliper's bore bottom (2 MPa line pressure on the
+    /// piston's section: 2.5 kN with the default piston, see
+    /// [`BrakeParams::hydraulic_pressures`]); the caliper on two guide pins (`guide pins`:
+    /// soft along the disc axis, stiff across it), the piston on its seal in the bore
+    /// (`piston seal`); and the four interfaces of Table 1, pad side slave: disc/pad (mu 0.5,
+    /// separation, the swept pair), piston/pad and caliper/pad (0.15, no separation),
+    /// bracket/pad (0.15, separation; the four ear end faces on the bracket abutments).
+    ///
+    /// Until the pairs have the Coulomb stick/slip law, the 0.15 pairs are frictionless (see
+    /// [`table1_pair`]): nothing then holds the pads radially, and a static solve names them
+    /// as free bodies; the tests hold them with radial springs on `pad_*_guides`.
+    /// `preset` is a floating-caliper preset; any other preset's mesh density is taken with
+    /// the floating-caliper layout.
+    pub fn builtin_floating_caliper(preset: &str) -> Study {
+        let named = brake::preset(preset);
+        let (params, brake_params) = match named {
+            Some(p) if p.floating_caliper() => (p, None),
+            other => {
+                let p = BrakeParams {
+                    layout: Layout::FloatingCaliper,
+                    ..other.unwrap_or_default()
+                };
+                (p.clone(), Some(p))
+            }
+        };
+        let (on_piston, on_bore) = params.hydraulic_pressures(LINE_PRESSURE);
+        let mut contacts: Vec<ContactSpec> = ["inboard", "outboard"].map(disc_pad_pair).to_vec();
+        contacts.push(table1_pair(
+            "piston/pad",
+            "backplate_inboard_piston_ring",
+            "piston_face",
+            0.15,
+            false,
+            false,
+        ));
+        contacts.push(table1_pair(
+            "caliper/pad",
+            "backplate_outboard_caliper",
+            "caliper_fingers",
+            0.15,
+            false,
+            false,
+        ));
+        for side in ["inboard", "outboard"] {
+            for end in ["leading", "trailing"] {
+                contacts.push(table1_pair(
+                    &format!("bracket/pad {side} {end}"),
+                    &format!("pad_{side}_abutment_{end}"),
+                    &format!("bracket_{side}_{end}"),
+                    0.15,
+                    true,
+                    false,
+                ));
+            }
+        }
+        Study {
+            mesh: MeshSpec {
+                file: None,
+                preset: Some(preset.to_string()),
+                brake: brake_params,
+            },
+            materials: vec![],
+            supports: ["disc_hub", "bracket_mount"]
+                .map(|set| SupportSpec {
+                    set: set.into(),
+                    components: "xyz".into(),
+                })
+                .to_vec(),
+            springs: vec![],
+            links: vec![
+                // Two greased pins in rubber-booted bores: the caliper slides along them
+                // (1e4 N/m in all stands for the boots' drag), and they hold it across
+                // (1e8 N/m in all, the bending stiffness of two 10 mm steel pins
+                // cantilevered ~30 mm, 3 E I / L^3 ~ 1.1e8 N/m).
+                LinkSpec {
+                    name: "guide pins".into(),
+                    set: "caliper_pins".into(),
+                    to: "bracket_pins".into(),
+                    axis: [0.0, 0.0, 1.0],
+                    axial: 1e4,
+                    transverse: 1e8,
+                },
+                // The piston's rubber seal: stiff across (it centres the piston in the
+                // bore), soft along (the seal's roll-back, ~1e5 N/m).
+                LinkSpec {
+                    name: "piston seal".into(),
+                    set: "piston_outer".into(),
+                    to: "caliper_bore".into(),
+                    axis: [0.0, 0.0, 1.0],
+                    axial: 1e5,
+                    transverse: 1e8,
+                },
+            ],
+            pressures: vec![
+                PressureSpec {
+                    surface: "piston_bottom".into(),
+                    value: on_piston,
+                },
+                PressureSpec {
+                    surface: "caliper_bore_bottom".into(),
+                    value: on_bore,
+                },
+            ],
+            contacts,
             analysis: AnalysisSpec::default(),
             reduction: None,
             output: default_output(),
@@ -283,6 +450,7 @@ impl Study {
             materials: &self.materials,
             supports: &self.supports,
             springs: &self.springs,
+            links: &self.links,
             pressures: &self.pressures,
             contacts: &self.contacts,
         }
@@ -473,6 +641,22 @@ impl Study {
                 ));
             }
         }
+        for (i, l) in self.links.iter().enumerate() {
+            for (key, value) in [("axial", l.axial), ("transverse", l.transverse)] {
+                if !(value >= 0.0 && value.is_finite()) {
+                    return Err(bad(
+                        format!("links[{i}].{key}"),
+                        format!("must be finite and >= 0, got {value}"),
+                    ));
+                }
+            }
+            if l.axial == 0.0 && l.transverse == 0.0 {
+                return Err(bad(
+                    format!("links[{i}]"),
+                    "axial and transverse are both zero: the link holds nothing".into(),
+                ));
+            }
+        }
         for (i, s) in self.supports.iter().enumerate() {
             if s.components.is_empty() || !s.components.chars().all(|c| "xyzXYZ".contains(c)) {
                 return Err(bad(
@@ -512,6 +696,95 @@ mod tests {
         let back: Study = toml::from_str(&text).unwrap();
         assert_eq!(s, back);
         s.check(Path::new("builtin")).unwrap();
+    }
+
+    #[test]
+    fn the_floating_caliper_study_has_table_1_and_equal_hydraulic_forces() {
+        let s = Study::builtin("tiny-caliper");
+        assert_eq!(s, Study::builtin_floating_caliper("tiny-caliper"));
+        let text = toml::to_string(&s).unwrap();
+        let back: Study = toml::from_str(&text).unwrap();
+        assert_eq!(s, back);
+        s.check(Path::new("builtin")).unwrap();
+        // The spring-held study stays the default of the spring-held presets.
+        assert_eq!(Study::builtin("tiny"), Study::builtin_spring_held("tiny"));
+        assert!(Study::builtin("tiny").links.is_empty());
+        // Table 1, pad side slave.
+        let pairs: Vec<(&str, f64, bool, bool)> = s
+            .contacts
+            .iter()
+            .map(|c| (c.name.as_str(), c.friction, c.separation, c.sweep))
+            .collect();
+        assert_eq!(
+            pairs,
+            [
+                ("disc/pad inboard", 0.5, true, true),
+                ("disc/pad outboard", 0.5, true, true),
+                ("piston/pad", 0.15, false, false),
+                ("caliper/pad", 0.15, false, false),
+                ("bracket/pad inboard leading", 0.15, true, false),
+                ("bracket/pad inboard trailing", 0.15, true, false),
+                ("bracket/pad outboard leading", 0.15, true, false),
+                ("bracket/pad outboard trailing", 0.15, true, false),
+            ]
+        );
+        assert!(s
+            .contacts
+            .iter()
+            .all(|c| c.slave.starts_with("pad_") || c.slave.starts_with("backplate_")));
+        // The hydraulic force is the same on the piston and the caliper.
+        let model = crate::model::Model::from_spec(&s.model_spec()).unwrap();
+        let force = |k: usize| {
+            let p = &model.pressures[k];
+            crate::fem::loads::pressure_resultant(&model.mesh, &p.faces, p.value)[2]
+        };
+        let want = LINE_PRESSURE * std::f64::consts::PI * 0.02f64.powi(2);
+        assert!((force(0) + want).abs() < 1e-12 * want);
+        assert!((force(1) - want).abs() < 1e-12 * want);
+        // Guide pins and seal: three springs per node of the caliper's pins / the piston.
+        let pins = model.mesh.node_sets["caliper_pins"].len();
+        let seal = model.mesh.node_sets["piston_outer"].len();
+        assert_eq!(model.links.len(), 3 * (pins + seal));
+        // A spring-held preset's mesh density with the caliper layout.
+        let other = Study::builtin_floating_caliper("tiny");
+        assert!(other.mesh.brake.as_ref().unwrap().floating_caliper());
+    }
+
+    #[test]
+    fn link_errors_name_the_key_and_the_set() {
+        let mut s = Study::builtin("tiny-caliper");
+        s.links[1].to = "caliper_boar".into();
+        let e = crate::model::Model::from_spec(&s.model_spec())
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("links[1].to") && e.contains("caliper_boar"),
+            "{e}"
+        );
+        let mut s = Study::builtin("tiny-caliper");
+        s.links[0].set = "pins".into();
+        let e = crate::model::Model::from_spec(&s.model_spec())
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("links[0].set") && e.contains("pins"), "{e}");
+        let p = write(
+            "link.toml",
+            "[[links]]\nname = \"pins\"\nset = \"a\"\nto = \"b\"\naxial = -1\ntransverse = 1e8\n",
+        );
+        let e = Study::read(&p).unwrap_err().to_string();
+        assert!(e.contains("links[0].axial"), "{e}");
+        let p = write(
+            "link0.toml",
+            "[[links]]\nname = \"pins\"\nset = \"a\"\nto = \"b\"\naxial = 0\ntransverse = 0\n",
+        );
+        let e = Study::read(&p).unwrap_err().to_string();
+        assert!(e.contains("links[0]") && e.contains("holds nothing"), "{e}");
+        let p = write(
+            "link_axis.toml",
+            "[[links]]\nname = \"pins\"\nset = \"a\"\nto = \"b\"\naxial = 1\ntransverse = 1\n",
+        );
+        let s = Study::read(&p).unwrap();
+        assert_eq!(s.links[0].axis, [0.0, 0.0, 1.0]);
     }
 
     #[test]

@@ -42,17 +42,23 @@
 //! (node sets `pad_*_guides`, the outer radial edge of the backplates), which the study
 //! supports or ties to springs.
 //!
+//! The floating-caliper layout (`layout = "floating-caliper"`, presets `*-caliper`) adds the
+//! piston, the caliper body and the bracket as meshed bodies (see `caliper.rs`): the study
+//! then presses the piston and the caliper with the hydraulic pressure and the pads bear on
+//! real bodies through the paper's Table 1 contact pairs.
+//!
 //! Files: `params.rs` (dimensions, materials, divisions, presets and their validation),
-//! `parts.rs` (the disc and pad grids and their mesh), `sets.rs` (named node sets and
-//! surfaces).
+//! `parts.rs` (the grids and their mesh), `caliper.rs` (the floating-caliper layout's
+//! bodies), `sets.rs` (named node sets and surfaces).
 
+mod caliper;
 mod params;
 mod parts;
 mod sets;
 #[cfg(test)]
 mod test_geometry;
 
-pub use params::{preset, BrakeParams, Divisions, Elastic, Rotation, PRESETS};
+pub use params::{preset, BrakeParams, Divisions, Elastic, Layout, Rotation, PRESETS};
 
 use crate::mesh::{Mesh, MeshError};
 
@@ -98,7 +104,8 @@ impl From<BrakeError> for MeshError {
 }
 
 /// Builds the brake mesh. Node and element labels are 1-based and contiguous; nodes are
-/// numbered block by block (disc, inboard pad, outboard pad), theta-major.
+/// numbered block by block (disc, inboard pad, outboard pad, then piston, caliper and
+/// bracket for the floating-caliper layout), theta-major.
 pub fn build(params: &BrakeParams) -> Result<Mesh, BrakeError> {
     params.validate()?;
     let (mut mesh, meshed) = parts::mesh(params)?;

@@ -5,7 +5,7 @@
 use std::f64::consts::PI;
 use std::ops::Range;
 
-use super::{BrakeError, BrakeParams};
+use super::{caliper, BrakeError, BrakeParams};
 use crate::mesh::structured::{Grid, Meshed, NodeOrder, Numbering, TetOrder};
 use crate::mesh::{Material, Mesh, Part, TET10_EDGES};
 
@@ -15,19 +15,28 @@ pub(super) const INBOARD_FRICTION: usize = 1;
 pub(super) const INBOARD_BACKPLATE: usize = 2;
 pub(super) const OUTBOARD_FRICTION: usize = 3;
 pub(super) const OUTBOARD_BACKPLATE: usize = 4;
-const PART_NAMES: [&str; 5] = [
+pub(super) const PISTON: usize = 5;
+pub(super) const CALIPER: usize = 6;
+pub(super) const BRACKET: usize = 7;
+const PART_NAMES: [&str; 8] = [
     "disc",
     "pad_inboard_friction",
     "pad_inboard_backplate",
     "pad_outboard_friction",
     "pad_outboard_backplate",
+    "piston",
+    "caliper",
+    "bracket",
 ];
-const PART_MATERIALS: [&str; 5] = [
+const PART_MATERIALS: [&str; 8] = [
     "cast_iron",
     "friction_material",
     "steel",
     "friction_material",
     "steel",
+    "steel",
+    "ductile_iron",
+    "ductile_iron",
 ];
 
 // Parameter axes of a block, in this order so that (r, theta, z) -> (r cos, r sin, z) is
@@ -45,17 +54,60 @@ const NUMBERING: Numbering = Numbering {
     tets: TetOrder::EvenFirst,
 };
 
-/// One part block: a grid in (r, theta, z) and the part of each of its cells.
+/// How a block's parameters map to positions.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum Map {
+    /// (r, theta, z) about the disc axis.
+    Disc,
+    /// (rho, phi, z) about the piston's axis at `axis`, phi = 0 along `phase`.
+    Local { axis: [f64; 2], phase: f64 },
+}
+
+impl Map {
+    fn apply(self, x: [f64; 3]) -> [f64; 3] {
+        match self {
+            Map::Disc => cartesian(x),
+            Map::Local { axis, phase } => {
+                let [rho, phi, z] = x;
+                let t = phi + phase;
+                [axis[0] + rho * t.cos(), axis[1] + rho * t.sin(), z]
+            }
+        }
+    }
+}
+
+/// One part block: a grid in (r, theta, z) (or the piston's local coordinates) and the part
+/// of each of its cells.
 pub(super) struct PartGrid {
     pub(super) grid: Grid,
-    /// Part of the cells in theta column i and layer k (`layout[i * nz + k]`), `None` where
-    /// the block has no cell (the lining under the backplate ears).
-    layout: Vec<Option<usize>>,
+    /// Part of each cell (`None` where the block has none: the lining under the backplate
+    /// ears, the caliper's bore), at `(cell[R] * n_theta + cell[THETA]) * n_z + cell[Z]`.
+    tags: Vec<Option<usize>>,
+    pub(super) map: Map,
 }
 
 impl PartGrid {
-    fn part(&self, cell: [usize; 3]) -> Option<usize> {
-        self.layout[cell[THETA] * self.grid.cells()[Z] + cell[Z]]
+    fn new(grid: Grid, map: Map, tag: impl Fn([usize; 3]) -> Option<usize>) -> PartGrid {
+        let [nr, nt, nz] = grid.cells();
+        let mut tags = Vec::with_capacity(nr * nt * nz);
+        for i in 0..nr {
+            for j in 0..nt {
+                for k in 0..nz {
+                    tags.push(tag([i, j, k]));
+                }
+            }
+        }
+        PartGrid { grid, tags, map }
+    }
+
+    pub(super) fn part(&self, cell: [usize; 3]) -> Option<usize> {
+        let [_, nt, nz] = self.grid.cells();
+        self.tags[(cell[R] * nt + cell[THETA]) * nz + cell[Z]]
+    }
+
+    /// (nodes, elements) of the block.
+    pub(super) fn count(&self) -> (usize, usize) {
+        self.grid.count(|cell| self.part(cell))
     }
 }
 
@@ -78,13 +130,14 @@ fn linspace(a: f64, b: f64, n: usize) -> Vec<f64> {
         .collect()
 }
 
-/// The part blocks: disc, inboard pad, outboard pad. Also returns the theta-cell range of the
-/// lining (same in both pads).
-pub(super) fn grids(p: &BrakeParams) -> ([PartGrid; 3], Range<usize>) {
+/// The part blocks: disc, inboard pad, outboard pad, and for the floating-caliper layout the
+/// piston, caliper and bracket. Also returns the theta-cell range of the lining (same in
+/// both pads).
+pub(super) fn grids(p: &BrakeParams) -> (Vec<PartGrid>, Range<usize>) {
     let d = &p.divisions;
     let half = 0.5 * p.disc_thickness;
-    let disc = PartGrid {
-        grid: Grid {
+    let disc = PartGrid::new(
+        Grid {
             lines: [
                 linspace(p.disc_inner_radius, p.disc_outer_radius, d.disc_radial),
                 linspace(0.0, 2.0 * PI, d.disc_circumferential),
@@ -92,29 +145,35 @@ pub(super) fn grids(p: &BrakeParams) -> ([PartGrid; 3], Range<usize>) {
             ],
             periodic: [false, true, false],
         },
-        layout: vec![Some(DISC); d.disc_circumferential * d.disc_thickness],
-    };
+        Map::Disc,
+        |_| Some(DISC),
+    );
 
     let o = p.overhang_cells();
     let centre = p.pad_centre_deg.to_radians();
     let half_arc = 0.5 * p.pad_arc_deg.to_radians();
     let ear = p.backplate_overhang_deg.to_radians();
-    let mut theta = Vec::with_capacity(d.pad_circumferential + 2 * o + 1);
+    let (radii, lining_theta) = if p.floating_caliper() {
+        let (radii, thetas) = caliper::pad_lines(p);
+        (radii.lines, thetas.lines)
+    } else {
+        (
+            linspace(p.pad_inner_radius, p.pad_outer_radius, d.pad_radial),
+            linspace(centre - half_arc, centre + half_arc, d.pad_circumferential),
+        )
+    };
+    let lining_cells = lining_theta.len() - 1;
+    let mut theta = Vec::with_capacity(lining_cells + 2 * o + 1);
     if o > 0 {
         let left = linspace(centre - half_arc - ear, centre - half_arc, o);
         theta.extend_from_slice(&left[..o]);
     }
-    theta.extend(linspace(
-        centre - half_arc,
-        centre + half_arc,
-        d.pad_circumferential,
-    ));
+    theta.extend(lining_theta);
     if o > 0 {
         let right = linspace(centre + half_arc, centre + half_arc + ear, o);
         theta.extend_from_slice(&right[1..]);
     }
-    let lining = o..o + d.pad_circumferential;
-    let radii = linspace(p.pad_inner_radius, p.pad_outer_radius, d.pad_radial);
+    let lining = o..o + lining_cells;
 
     // Inboard pad from the friction face up: lining layers first, then the backplate.
     let z0 = half + p.pad_gap;
@@ -123,41 +182,60 @@ pub(super) fn grids(p: &BrakeParams) -> ([PartGrid; 3], Range<usize>) {
     let mut z_in = linspace(z0, z1, d.friction_thickness);
     z_in.extend_from_slice(&linspace(z1, z2, d.backplate_thickness)[1..]);
     let (nf, nb) = (d.friction_thickness, d.backplate_thickness);
-    let n_theta = theta.len() - 1;
-    let layout = |friction_first: bool, friction: usize, backplate: usize| {
-        let mut layout = Vec::with_capacity(n_theta * (nf + nb));
-        for i in 0..n_theta {
-            for k in 0..nf + nb {
-                let is_friction = if friction_first { k < nf } else { k >= nb };
-                layout.push(if !is_friction {
-                    Some(backplate)
-                } else if lining.contains(&i) {
-                    Some(friction)
-                } else {
-                    None
-                });
+    let pad = |friction_first: bool, friction: usize, backplate: usize| {
+        let lining = lining.clone();
+        move |cell: [usize; 3]| {
+            let k = cell[Z];
+            let is_friction = if friction_first { k < nf } else { k >= nb };
+            if !is_friction {
+                Some(backplate)
+            } else if lining.contains(&cell[THETA]) {
+                Some(friction)
+            } else {
+                None
             }
         }
-        layout
     };
-    let inboard = PartGrid {
-        grid: Grid {
+    let inboard = PartGrid::new(
+        Grid {
             lines: [radii.clone(), theta.clone(), z_in.clone()],
             periodic: [false; 3],
         },
-        layout: layout(true, INBOARD_FRICTION, INBOARD_BACKPLATE),
-    };
+        Map::Disc,
+        pad(true, INBOARD_FRICTION, INBOARD_BACKPLATE),
+    );
     // Outboard pad: the mirror image in z = 0 (exact negation), z increasing from the
     // backplate's back face to the friction face.
     let z_out: Vec<f64> = z_in.iter().rev().map(|z| -z).collect();
-    let outboard = PartGrid {
-        grid: Grid {
+    let outboard = PartGrid::new(
+        Grid {
             lines: [radii, theta, z_out],
             periodic: [false; 3],
         },
-        layout: layout(false, OUTBOARD_FRICTION, OUTBOARD_BACKPLATE),
-    };
-    ([disc, inboard, outboard], lining)
+        Map::Disc,
+        pad(false, OUTBOARD_FRICTION, OUTBOARD_BACKPLATE),
+    );
+    let mut blocks = vec![disc, inboard, outboard];
+    if p.floating_caliper() {
+        let piston = caliper::piston(p);
+        blocks.push(PartGrid::new(
+            piston.grid.clone(),
+            Map::Local {
+                axis: piston.axis,
+                phase: piston.phase,
+            },
+            |_| Some(PISTON),
+        ));
+        for (block, part) in [
+            (caliper::caliper(p), CALIPER),
+            (caliper::bracket(p), BRACKET),
+        ] {
+            blocks.push(PartGrid::new(block.grid(), Map::Disc, |cell| {
+                block.has(cell).then_some(part)
+            }));
+        }
+    }
+    (blocks, lining)
 }
 
 /// Barycentric points where [`mesh`] checks the Jacobian: the 4 corners and the 4-point
@@ -213,8 +291,9 @@ pub(super) fn jacobian_det(x: &[[f64; 3]; 10], l: [f64; 4]) -> f64 {
 
 /// The meshed part blocks, for picking the named sets.
 pub(super) struct MeshedParts {
-    /// Disc, inboard pad, outboard pad; each element tagged with its part.
-    pub(super) blocks: [Meshed<usize>; 3],
+    /// Disc, inboard pad, outboard pad (then piston, caliper, bracket for the
+    /// floating-caliper layout); each element tagged with its part.
+    pub(super) blocks: Vec<Meshed<usize>>,
     /// Cells per axis of the disc and of a pad.
     pub(super) disc_cells: [usize; 3],
     pub(super) pad_cells: [usize; 3],
@@ -230,14 +309,26 @@ pub(super) fn mesh(params: &BrakeParams) -> Result<(Mesh, MeshedParts), BrakeErr
     let mut mesh = Mesh::default();
     mesh.elements.reserve(params.element_count());
     mesh.nodes.reserve(params.node_count());
-    let blocks = grids.each_ref().map(|g| {
-        g.grid
-            .mesh(&mut mesh, &NUMBERING, |cell| g.part(cell), cartesian)
-    });
+    let blocks: Vec<Meshed<usize>> = grids
+        .iter()
+        .map(|g| {
+            g.grid.mesh(
+                &mut mesh,
+                &NUMBERING,
+                |cell| g.part(cell),
+                |x| g.map.apply(x),
+            )
+        })
+        .collect();
     mesh.node_labels = (1..=mesh.nodes.len() as i64).collect();
     mesh.element_labels = (1..=mesh.elements.len() as i64).collect();
 
-    let mut parts: Vec<Vec<usize>> = vec![Vec::new(); PART_NAMES.len()];
+    let part_count = if params.floating_caliper() {
+        PART_NAMES.len()
+    } else {
+        OUTBOARD_BACKPLATE + 1
+    };
+    let mut parts: Vec<Vec<usize>> = vec![Vec::new(); part_count];
     for block in &blocks {
         for (e, origin) in block.elements.iter().enumerate() {
             let e = block.first_element + e;
@@ -266,11 +357,15 @@ pub(super) fn mesh(params: &BrakeParams) -> Result<(Mesh, MeshedParts), BrakeErr
             material: Some(material.to_string()),
         })
         .collect();
-    for (name, e) in [
+    let mut materials = vec![
         ("cast_iron", params.cast_iron),
         ("friction_material", params.friction_material),
         ("steel", params.steel),
-    ] {
+    ];
+    if params.floating_caliper() {
+        materials.push(("ductile_iron", params.ductile_iron));
+    }
+    for (name, e) in materials {
         mesh.materials.insert(
             name.to_string(),
             Material {
@@ -281,7 +376,7 @@ pub(super) fn mesh(params: &BrakeParams) -> Result<(Mesh, MeshedParts), BrakeErr
             },
         );
     }
-    let [disc_cells, pad_cells, _] = grids.each_ref().map(|g| g.grid.cells());
+    let (disc_cells, pad_cells) = (grids[DISC].grid.cells(), grids[1].grid.cells());
     let meshed = MeshedParts {
         blocks,
         disc_cells,
@@ -604,7 +699,8 @@ mod tests {
         };
         for &name in PRESETS {
             let p = preset(name).unwrap();
-            let ([disc, pad, _], _) = grids(&p);
+            let (blocks, _) = grids(&p);
+            let (disc, pad) = (&blocks[DISC], &blocks[1]);
             let radii = common(
                 &refined(&disc.grid.lines[R]),
                 &refined(&pad.grid.lines[R]),
@@ -667,11 +763,14 @@ mod tests {
             assert_eq!(m.nodes.len(), p.node_count());
             assert_eq!(m.elements.len(), p.element_count());
             println!(
-                "{name:>10}: {:>7} nodes {:>7} elements, built in {:.3} s",
+                "{name:>18}: {:>7} nodes {:>7} elements, built in {:.3} s",
                 m.nodes.len(),
                 m.elements.len(),
                 elapsed.as_secs_f64()
             );
+            let (blocks, _) = grids(&p);
+            let sizes: Vec<(usize, usize)> = blocks.iter().map(|b| b.count()).collect();
+            println!("{:>18}  per block (nodes, elements): {sizes:?}", "");
         }
     }
 }

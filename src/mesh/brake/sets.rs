@@ -4,18 +4,19 @@
 
 use std::ops::Range;
 
+use super::caliper;
 use super::params::{BrakeParams, Rotation};
 use super::parts::{
-    MeshedParts, DISC, INBOARD_BACKPLATE, INBOARD_FRICTION, OUTBOARD_BACKPLATE, OUTBOARD_FRICTION,
-    R, THETA, Z,
+    MeshedParts, BRACKET, CALIPER, DISC, INBOARD_BACKPLATE, INBOARD_FRICTION, OUTBOARD_BACKPLATE,
+    OUTBOARD_FRICTION, PISTON, R, THETA, Z,
 };
-use crate::mesh::structured::Meshed;
+use crate::mesh::structured::{Meshed, Origin};
 use crate::mesh::{Face, Mesh, Surface};
 
 /// Adds the surfaces (each also a node set of the same name) and the node sets that are no
 /// surface (the disc hub, the pad guides) to the mesh of the parts.
 pub(super) fn add(mesh: &mut Mesh, params: &BrakeParams, meshed: &MeshedParts) {
-    let [disc, pad_in, pad_out] = &meshed.blocks;
+    let (disc, pad_in, pad_out) = (&meshed.blocks[0], &meshed.blocks[1], &meshed.blocks[2]);
     let (disc_cells, pad_cells) = (meshed.disc_cells, meshed.pad_cells);
     let (theta_min, theta_max) = (0, pad_cells[THETA]);
     let (leading, trailing) = match params.rotation {
@@ -80,7 +81,14 @@ pub(super) fn add(mesh: &mut Mesh, params: &BrakeParams, meshed: &MeshedParts) {
             pick(mesh, pad_out, OUTBOARD_BACKPLATE, THETA, trailing, &all_pad),
         ),
     ];
-    let node_sets = [
+    let mut surfaces = surfaces.to_vec();
+    let mut node_sets = vec![];
+    if params.floating_caliper() {
+        let (more_surfaces, more_sets) = caliper_sets(mesh, params, meshed);
+        surfaces.extend(more_surfaces);
+        node_sets.extend(more_sets);
+    }
+    let spring_held_sets = [
         ("disc_hub", pick(mesh, disc, DISC, R, 0, &all_disc)),
         (
             "pad_inboard_guides",
@@ -91,6 +99,7 @@ pub(super) fn add(mesh: &mut Mesh, params: &BrakeParams, meshed: &MeshedParts) {
             pick(mesh, pad_out, OUTBOARD_BACKPLATE, R, pad_cells[R], &all_pad),
         ),
     ];
+    node_sets.extend(spring_held_sets);
     for (name, faces) in surfaces {
         let surface = Surface {
             name: name.to_string(),
@@ -108,6 +117,100 @@ pub(super) fn add(mesh: &mut Mesh, params: &BrakeParams, meshed: &MeshedParts) {
         mesh.node_sets
             .insert(name.to_string(), mesh.surface_nodes(&faces));
     }
+}
+
+type Named = (&'static str, Vec<Face>);
+
+/// The floating-caliper layout's surfaces and node sets (see [`super::caliper`]), picked by
+/// the segments of each block's lines.
+fn caliper_sets(
+    mesh: &Mesh,
+    params: &BrakeParams,
+    meshed: &MeshedParts,
+) -> (Vec<Named>, Vec<Named>) {
+    let (pad_in, piston, caliper_mesh, bracket_mesh) = (
+        &meshed.blocks[1],
+        &meshed.blocks[PISTON - 2],
+        &meshed.blocks[CALIPER - 2],
+        &meshed.blocks[BRACKET - 2],
+    );
+    // The backplate's contact ring: radial and lining segments 1..=3 but not both 2.
+    let (radii, thetas) = caliper::pad_lines(params);
+    let o = meshed.lining.start;
+    let pad_top = meshed.pad_cells[Z];
+    let ring = pad_in.faces_on(mesh, Z, pad_top, |origin| {
+        let [r, t] = [radii.segment(origin.cell[R]), {
+            let t = origin.cell[THETA];
+            if t < o {
+                usize::MAX
+            } else {
+                thetas.segment(t - o)
+            }
+        }];
+        origin.tag == INBOARD_BACKPLATE
+            && (1..=3).contains(&r)
+            && (1..=3).contains(&t)
+            && !(r == 2 && t == 2)
+    });
+    let piston_cells = params.piston_cells();
+    let all = |_: &Origin<usize>| true;
+    let piston_face = piston.faces_on(mesh, Z, 0, all);
+    let piston_bottom = piston.faces_on(mesh, Z, piston_cells[Z], all);
+    let piston_outer = piston.faces_on(mesh, R, piston_cells[R], all);
+
+    let block = caliper::caliper(params);
+    let seg = |origin: &Origin<usize>| block.segments(origin.cell);
+    let line = |axis: usize, k: usize| block.axes[axis].line(k);
+    let on = |axis: usize, k: usize, keep: &dyn Fn([usize; 3]) -> bool| {
+        caliper_mesh.faces_on(mesh, axis, line(axis, k), |o| keep(seg(o)))
+    };
+    let fingers = on(Z, 1, &|[r, _, z]| z == 0 && r <= 2);
+    let bore_bottom = on(Z, 3, &|[r, t, z]| z == 3 && r == 1 && t == 2);
+    let mut bore = on(R, 1, &|[r, t, z]| z == 2 && r == 0 && t == 2);
+    bore.extend(on(R, 2, &|[r, t, z]| z == 2 && r == 2 && t == 2));
+    bore.extend(on(THETA, 2, &|[r, t, z]| z == 2 && r == 1 && t == 1));
+    bore.extend(on(THETA, 3, &|[r, t, z]| z == 2 && r == 1 && t == 3));
+    let mut caliper_pins = on(THETA, 0, &|[r, t, z]| z == 1 && r == 4 && t == 0);
+    caliper_pins.extend(on(THETA, 5, &|[r, t, z]| z == 1 && r == 4 && t == 4));
+
+    let block = caliper::bracket(params);
+    let seg = |origin: &Origin<usize>| block.segments(origin.cell);
+    let line = |axis: usize, k: usize| block.axes[axis].line(k);
+    let on = |axis: usize, k: usize, keep: &dyn Fn([usize; 3]) -> bool| {
+        bracket_mesh.faces_on(mesh, axis, line(axis, k), |o| keep(seg(o)))
+    };
+    // The abutment planes are the pads' end planes: theta break 1 (low end) faces the
+    // pads' low-theta ears, break 2 the high-theta ones.
+    let abutment = |low: bool, z_seg: usize| {
+        if low {
+            on(THETA, 1, &|[r, t, z]| z == z_seg && r == 1 && t == 0)
+        } else {
+            on(THETA, 2, &|[r, t, z]| z == z_seg && r == 1 && t == 2)
+        }
+    };
+    let ccw = params.rotation == Rotation::CounterClockwise;
+    let mut bracket_pins = on(THETA, 1, &|[r, t, _]| r == 3 && t == 0);
+    bracket_pins.extend(on(THETA, 2, &|[r, t, _]| r == 3 && t == 2));
+    let mount = on(R, 0, &|[r, _, _]| r == 0);
+    let surfaces = vec![
+        ("backplate_inboard_piston_ring", ring),
+        ("piston_face", piston_face),
+        ("piston_bottom", piston_bottom),
+        ("piston_outer", piston_outer),
+        ("caliper_fingers", fingers),
+        ("caliper_bore_bottom", bore_bottom),
+        ("caliper_bore", bore),
+        ("bracket_inboard_leading", abutment(ccw, 2)),
+        ("bracket_inboard_trailing", abutment(!ccw, 2)),
+        ("bracket_outboard_leading", abutment(ccw, 0)),
+        ("bracket_outboard_trailing", abutment(!ccw, 0)),
+    ];
+    let node_sets = vec![
+        ("caliper_pins", caliper_pins),
+        ("bracket_pins", bracket_pins),
+        ("bracket_mount", mount),
+    ];
+    (surfaces, node_sets)
 }
 
 #[cfg(test)]

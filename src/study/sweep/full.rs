@@ -274,9 +274,19 @@ impl<'rt> FrictionModel<'rt> for FullModel<'rt> {
         let mut contact_reports = Vec::new();
         let mut normal_total = 0.0;
         let slip = &equilibrium.slip_before;
-        for (pair, states) in self.model.pairs.iter().zip(&equilibrium.contact) {
+        for ((pair, states), &swept) in self
+            .model
+            .pairs
+            .iter()
+            .zip(&equilibrium.contact)
+            .zip(&self.model.swept)
+        {
             let s = contact::summarize_states(pair, states);
-            normal_total += s.normal_force;
+            // The disc/pad pairs carry the brake load to the disc; the other pairs of a
+            // floating caliper (piston, fingers, abutments) carry it on the way there.
+            if swept {
+                normal_total += s.normal_force;
+            }
             contact_reports.push(PairReport::new(&pair.settings.name, &s));
         }
         let static_seconds = t_static.elapsed().as_secs_f64();

@@ -21,8 +21,8 @@ pub struct SweepPointReport {
     pub cutbacks: usize,
     /// Per pair: name, closed points, total normal force, |friction force|, pressure range.
     pub contact: Vec<PairReport>,
-    /// Sum of contact normal forces over the applied pressure resultant (1 when the pads
-    /// carry the whole brake load).
+    /// Sum of the swept (disc/pad) pairs' normal forces over the applied pressure resultant
+    /// (1 when the pads carry the whole brake load to the disc).
     pub balance_ratio: f64,
     pub eigenvalues: Vec<ComplexMode>,
     pub static_seconds: f64,
