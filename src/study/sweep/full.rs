@@ -35,9 +35,8 @@ pub struct FullModel<'rt> {
     rayleigh: Option<RayleighDamping>,
     increments: usize,
     ranks: usize,
-    /// The previous point's equilibrium (warm start) and the slip history after it (where
-    /// the Coulomb pairs start from).
-    previous: Option<(Vec<[f64; 3]>, SlipHistory)>,
+    /// The previous point's equilibrium (warm start).
+    previous: Option<Previous>,
     /// Where each swept pair's contact forces land on its pad surface.
     spread: Vec<SweptSurface>,
     /// The reduced interface this model was made with (none for the full model): what a
@@ -171,11 +170,88 @@ impl<'rt> FullModel<'rt> {
 
     /// The sliding equilibrium at friction `mu` (the swept pairs'), warm-started from the
     /// previous one this model solved, which it then becomes. Collective.
+    ///
+    /// The first point ramps the load (the study's increments, cut back on failure). Later
+    /// points start from the previous equilibrium under the full load, and the friction is
+    /// what changes: when the direct step fails, it is taken again from there in 2, 4, 8
+    /// and 16 equal friction steps, each carrying the slip history to the next (the path a
+    /// Coulomb contact follows as the disc friction rises). Cutting the load back from a
+    /// loaded state would unload the brake and make the contacts slip back.
     pub(super) fn static_at(
         &mut self,
         comm: Comm<'rt>,
         mu: f64,
     ) -> anyhow::Result<statics::StaticSolution> {
+        let Some(previous) = self.previous.take() else {
+            let equilibrium = self
+                .solve_static(
+                    comm,
+                    mu,
+                    None,
+                    self.increments,
+                    StaticOptions::default().max_cutbacks,
+                )
+                .with_context(|| format!("static equilibrium at mu = {mu}"))?;
+            self.remember(mu, &equilibrium);
+            return Ok(equilibrium);
+        };
+        let from = previous.mu;
+        let direct = self.solve_static(comm, mu, Some(&previous), 1, 0);
+        let first_error = match direct {
+            Ok(equilibrium) => {
+                self.remember(mu, &equilibrium);
+                return Ok(equilibrium);
+            }
+            Err(e) => e,
+        };
+        let mut cutbacks = vec![(mu, first_error.to_string())];
+        for parts in [2, 4, 8, 16] {
+            tracing::warn!("mu {from} -> {mu} in one step failed; trying {parts} friction steps");
+            let mut start = previous.clone();
+            let mut increments = Vec::new();
+            let mut reached = None;
+            for k in 1..=parts {
+                let at = from + (mu - from) * k as f64 / parts as f64;
+                match self.solve_static(comm, at, Some(&start), 1, 0) {
+                    Ok(e) => {
+                        increments.extend(e.increments.iter().cloned());
+                        start = Previous {
+                            mu: at,
+                            displacement: e.displacement.clone(),
+                            slip: e.slip_after.clone(),
+                        };
+                        reached = Some(e);
+                    }
+                    Err(e) => {
+                        cutbacks.push((at, e.to_string()));
+                        reached = None;
+                        break;
+                    }
+                }
+            }
+            if let Some(mut equilibrium) = reached {
+                equilibrium.increments = increments;
+                equilibrium.cutbacks = cutbacks;
+                self.remember(mu, &equilibrium);
+                return Ok(equilibrium);
+            }
+        }
+        self.previous = Some(previous);
+        Err(anyhow::Error::new(first_error).context(format!(
+            "static equilibrium at mu = {mu} (from the equilibrium at mu = {from} in one \
+             step, then in 2 to 16 friction steps: none converged)"
+        )))
+    }
+
+    /// One static solve at friction `mu` from `start` (or from rest). Collective.
+    fn solve_static(
+        &mut self,
+        comm: Comm<'rt>,
+        mu: f64,
+        start: Option<&Previous>,
+        increments: usize,
+        max_cutbacks: usize,
+    ) -> Result<statics::StaticSolution, statics::StaticsError> {
         self.model.set_swept_friction(mu);
         let Operators {
             dofs,
@@ -189,24 +265,27 @@ impl<'rt> FullModel<'rt> {
             stiffness,
             load,
             pairs: &self.model.pairs,
-            slip: self.previous.as_ref().map_or(&no_slip, |p| &p.1),
+            slip: start.map_or(&no_slip, |p| &p.slip),
             bodies: &self.bodies,
         };
-        let equilibrium = statics::solve(
+        statics::solve(
             comm,
             &problem,
-            self.previous.as_ref().map(|p| &p.0[..]),
+            start.map(|p| &p.displacement[..]),
             &StaticOptions {
-                increments: self.increments,
+                increments,
+                max_cutbacks,
                 ..Default::default()
             },
         )
-        .with_context(|| format!("static equilibrium at mu = {mu}"))?;
-        self.previous = Some((
-            equilibrium.displacement.clone(),
-            equilibrium.slip_after.clone(),
-        ));
-        Ok(equilibrium)
+    }
+
+    fn remember(&mut self, mu: f64, equilibrium: &statics::StaticSolution) {
+        self.previous = Some(Previous {
+            mu,
+            displacement: equilibrium.displacement.clone(),
+            slip: equilibrium.slip_after.clone(),
+        });
     }
 
     pub(super) fn operators(&self) -> &Operators<'rt> {
@@ -380,6 +459,15 @@ impl<'rt> FrictionModel<'rt> for FullModel<'rt> {
             fields,
         })
     }
+}
+
+/// An equilibrium a static solve starts from: its friction, displacements and the slip
+/// history after it (where the Coulomb pairs start from).
+#[derive(Clone)]
+struct Previous {
+    mu: f64,
+    displacement: Vec<[f64; 3]>,
+    slip: SlipHistory,
 }
 
 /// The mesh nodes' values of a field over all nodes (extra nodes are not drawn).
