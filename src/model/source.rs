@@ -9,10 +9,13 @@ use crate::mesh::{brake, Material, Mesh};
 use std::path::Path;
 
 /// The built-in brake's supports for a structure without contact: the disc clamped at its
-/// hub, each pad held at its backplate ears (where it bears on the bracket).
+/// hub, each pad held at its backplate ears (where it bears on the bracket), and in the
+/// floating-caliper layout the bracket at its mount (the piston and the caliper, held by
+/// contact and links only, stay free: 12 rigid-body modes).
 pub fn brake_supports(mesh: &Mesh) -> Vec<Support> {
     [
         "disc_hub",
+        "bracket_mount",
         "pad_inboard_abutment_leading",
         "pad_inboard_abutment_trailing",
         "pad_outboard_abutment_leading",

@@ -1,5 +1,5 @@
 //! The study file (TOML): everything a user changes for a squeal study — mesh, materials,
-//! supports, springs, loads, contact pairs, band, friction sweep, output — validated up
+//! supports, springs, links, loads, contact pairs, band, friction sweep, output — validated up
 //! front with errors that name the file and the key.
 
 use crate::analysis::cea::RayleighDamping;
