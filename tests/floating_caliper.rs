@@ -2,9 +2,9 @@
 //! equilibrium carries the hydraulic force from the piston through both pads to the disc and
 //! back through the caliper, on 1 and 2 ranks (see `common/harness.rs`).
 //!
-//! Until the Table 1 pairs other than disc/pad have the Coulomb stick/slip law, nothing holds
-//! the pads radially: the test adds radial springs on `pad_*_guides` (only here), as the
-//! spring-held study does, and checks that without them the solve fails cleanly.
+//! The pads' abutment clips (radial springs on `pad_*_guides`) are part of the study: without
+//! them, once the pads slip on the piston and the fingers, nothing holds them radially, and
+//! the solve must fail cleanly.
 
 mod common;
 
@@ -16,7 +16,7 @@ use squeal::fem::element::MassRule;
 use squeal::fem::loads::pressure_resultant;
 use squeal::model::{self, Model, Operators};
 use squeal::petsc::Runtime;
-use squeal::study::config::{SpringDirection, SpringSpec, Study};
+use squeal::study::config::Study;
 
 const CHECKS: &[Check] = &[
     Check {
@@ -48,14 +48,8 @@ fn solve(
 ) -> Result<(Model, Result<statics::StaticSolution, String>), String> {
     let comm = rt.world();
     let mut study = Study::builtin("tiny-caliper");
-    if guided {
-        for side in ["inboard", "outboard"] {
-            study.springs.push(SpringSpec {
-                set: format!("pad_{side}_guides"),
-                direction: SpringDirection::Radial,
-                stiffness: 1e7,
-            });
-        }
+    if !guided {
+        study.springs.retain(|s| !s.set.ends_with("_guides"));
     }
     let model = Model::from_spec(&study.model_spec()).map_err(e)?;
     let Operators {
@@ -69,6 +63,7 @@ fn solve(
         stiffness: &k,
         load: &load,
         pairs: &model.pairs,
+        slip: &contact::SlipHistory::default(),
         bodies: &restraint::bodies(&model.mesh),
     };
     // Unguided, every cut-back fails alike: one is enough to show it (and saves a minute).
@@ -82,8 +77,8 @@ fn solve(
 
 /// Hydraulic force on the piston = piston/pad normal force + the seal's axial force on the
 /// piston; caliper/pad normal force = the same hydraulic force less the pins' and the
-/// seal's axial forces on the caliper; each pad's disc/pad normal force = its piston or
-/// finger force (nothing else pushes a pad along z).
+/// seal's axial forces on the caliper; each pad in balance under the disc, the piston or the
+/// fingers, the bracket abutments and the clips (at mu = 0.5, the study's).
 fn balance(rt: &Runtime) -> Result<Vec<f64>, String> {
     let (model, solution) = solve(rt, true)?;
     let solution = solution?;
@@ -94,7 +89,10 @@ fn balance(rt: &Runtime) -> Result<Vec<f64>, String> {
             .iter()
             .position(|p| p.settings.name == name)
             .ok_or(format!("no pair {name}"))?;
-        contact::summarize(&model.pairs[k], u).map_err(e)
+        Ok(contact::summarize_states(
+            &model.pairs[k],
+            &solution.contact[k],
+        ))
     };
     let mesh = &model.mesh;
     let hydraulic = |surface: &str| {
@@ -174,11 +172,71 @@ fn balance(rt: &Runtime) -> Result<Vec<f64>, String> {
         applied,
         1e-8,
     )?;
-    close("inboard pad", disc_in.normal_force, n_piston, 1e-8)?;
-    close("outboard pad", disc_out.normal_force, n_fingers, 1e-8)?;
+    // (Along z a pad also feels its abutments' friction, 0.15 of their normal force: its
+    // balance is checked whole below.)
     // The springs take little: the piston and the fingers carry the hydraulic force.
     close("piston carries the load", n_piston, applied, 1e-2)?;
     close("fingers carry the load", n_fingers, applied, 1e-2)?;
+    // Each pad is in balance as a whole, in every direction: the disc's normal force and
+    // drag, the piston or the fingers (normal force and Coulomb friction), the bracket
+    // abutments and the abutment clips. The drag the piston's or fingers' friction does not
+    // take goes into the trailing abutment.
+    for (side, pusher) in [("inboard", &piston_pad), ("outboard", &caliper_pad)] {
+        let disc = force(&format!("disc/pad {side}"))?;
+        let mut total = [0.0; 3];
+        let mut abutments = [0.0; 3];
+        for end in ["leading", "trailing"] {
+            let s = force(&format!("bracket/pad {side} {end}"))?;
+            (0..3).for_each(|c| abutments[c] += s.force_on_slave[c]);
+        }
+        let clips = &mesh.node_sets[&format!("pad_{side}_guides")];
+        let mut springs = [0.0; 3];
+        for g in model
+            .springs
+            .iter()
+            .filter(|g| clips.binary_search(&g.node).is_ok())
+        {
+            let d = g.direction;
+            let stretch: f64 = (0..3).map(|c| d[c] * u[g.node][c]).sum();
+            (0..3).for_each(|c| springs[c] -= g.stiffness * stretch * d[c]);
+        }
+        for c in 0..3 {
+            total[c] =
+                disc.force_on_slave[c] + pusher.force_on_slave[c] + abutments[c] + springs[c];
+        }
+        let drag = disc.friction_force;
+        let norm = |v: [f64; 3]| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+        eprintln!(
+            "{side} pad: disc drag {:.3} N, {} friction {:.3} N ({} stick, {} slip), \
+             abutments {:.3} N, clips {:.3} N, braking torque {:.3} N m at radius {:.4} m; \
+             unbalanced {:.2e} N",
+            norm(drag),
+            if side == "inboard" {
+                "piston"
+            } else {
+                "finger"
+            },
+            norm(pusher.friction_force),
+            pusher.stick,
+            pusher.slip,
+            norm(abutments),
+            norm(springs),
+            disc.braking_torque,
+            disc.effective_radius,
+            norm(total)
+        );
+        if norm(total) > 1e-8 * applied {
+            return Err(format!("{side} pad: unbalanced force {total:?} N"));
+        }
+        // The friction acts, on average, between the pad's inner and outer radius (the
+        // torque is the moment of mu N at the effective radius).
+        if !(0.090..=0.135).contains(&disc.effective_radius) || disc.braking_torque == 0.0 {
+            return Err(format!(
+                "{side}: braking torque {} N m at effective radius {} m",
+                disc.braking_torque, disc.effective_radius
+            ));
+        }
+    }
     Ok(vec![
         applied,
         n_piston,
@@ -190,13 +248,11 @@ fn balance(rt: &Runtime) -> Result<Vec<f64>, String> {
     ])
 }
 
-/// Without the radial guides the pads are held radially only while both abutments of a pad
-/// touch: the static solve starts (the zero-gap abutments hold the pads at the start, so the
-/// restraint check passes), the leading abutments open under the disc's drag and the pad is
-/// free along its trailing abutment: the solve must fail with a message on every rank, not
-/// hang or return an equilibrium. (Measured: SNES DIVERGED_LINEAR_SOLVE at every load factor
-/// down to 1/64 with 6 cut-backs; here 1.) The Coulomb stick stiffness of the 0.15 pairs
-/// will hold them.
+/// Without the abutment clips the pads are held radially only by friction: the static solve
+/// starts (the zero-gap contacts stick at the start, so the restraint check passes), and at
+/// mu = 0.5 the disc's drag makes the pads slip on the piston and the fingers, where nothing
+/// then holds them radially: the solve must fail with a message on every rank, not hang or
+/// return an equilibrium.
 fn free_pads(rt: &Runtime) -> Result<Vec<f64>, String> {
     let (_, solution) = solve(rt, false)?;
     match solution {

@@ -7,8 +7,8 @@ use crate::contact::SlidingDirection;
 use crate::mesh::brake::{self, BrakeParams, Layout};
 use crate::model::spec::ModelSpec;
 pub use crate::model::spec::{
-    ContactSpec, FrictionLawName, LinkSpec, MaterialSpec, MeshSpec, PressureSpec,
-    SpringDirection, SpringSpec, SupportSpec,
+    ContactSpec, FrictionLawName, LinkSpec, MaterialSpec, MeshSpec, PressureSpec, SpringDirection,
+    SpringSpec, SupportSpec,
 };
 use crate::reduce::{DiscCoupling, GridSize, InterfaceSettings, RadiusChoice, Strategy, Weighting};
 use std::path::{Path, PathBuf};
@@ -341,9 +341,11 @@ impl Study {
     /// separation, the swept pair), piston/pad and caliper/pad (0.15, no separation),
     /// bracket/pad (0.15, separation; the four ear end faces on the bracket abutments).
     ///
-    /// Until the pairs have the Coulomb stick/slip law, the 0.15 pairs are frictionless (see
-    /// [`table1_pair`]): nothing then holds the pads radially, and a static solve names them
-    /// as free bodies; the tests hold them with radial springs on `pad_*_guides`.
+    /// The 0.15 pairs have Coulomb stick and slip (see [`table1_pair`]). The pads' ears sit
+    /// in the bracket's slots on spring-steel abutment clips, which hold them radially
+    /// (`springs` on `pad_*_guides`, 1e7 N/m per pad): once the disc drag makes the pads
+    /// slip on the piston and the fingers (from mu ~ 0.35), friction no longer holds them
+    /// radially, and without the clips the static solve finds no equilibrium.
     /// `preset` is a floating-caliper preset; any other preset's mesh density is taken with
     /// the floating-caliper layout.
     pub fn builtin_floating_caliper(preset: &str) -> Study {
@@ -401,7 +403,13 @@ impl Study {
                     components: "xyz".into(),
                 })
                 .to_vec(),
-            springs: vec![],
+            springs: ["inboard", "outboard"]
+                .map(|side| SpringSpec {
+                    set: format!("pad_{side}_guides"),
+                    direction: SpringDirection::Radial,
+                    stiffness: 1e7,
+                })
+                .to_vec(),
             links: vec![
                 // Two greased pins in rubber-booted bores: the caliper slides along them
                 // (1e4 N/m in all stands for the boots' drag), and they hold it across
