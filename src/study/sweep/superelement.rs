@@ -584,9 +584,13 @@ impl<'rt> FrictionModel<'rt> for SuperElementModel<'rt> {
                     .pairs
                     .iter()
                     .zip(&states)
-                    .map(|(p, s)| {
+                    .enumerate()
+                    .map(|(i, (p, s))| {
                         let summary = contact::summarize_states(p, s);
-                        normal_total += summary.normal_force;
+                        // As the full model's: the swept (disc/pad) pairs carry the load.
+                        if self.swept.contains(&i) {
+                            normal_total += summary.normal_force;
+                        }
                         PairReport::new(&p.settings.name, &summary)
                     })
                     .collect();
