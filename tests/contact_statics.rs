@@ -4,6 +4,7 @@
 mod common;
 
 use common::harness::Check;
+use common::meshes::merge;
 use squeal::analysis::cea::{self, CeaOptions};
 use squeal::analysis::restraint;
 use squeal::analysis::statics::{self, StaticOptions, StaticProblem};
@@ -11,7 +12,7 @@ use squeal::contact::{self, PairSettings, SearchOptions, SlidingDirection};
 use squeal::fem::element::MassRule;
 use squeal::fem::springs::{add_ground_springs, GroundSpring};
 use squeal::fem::{assemble, DofMap, StructureOptions, Support};
-use squeal::mesh::{block::block, Material, Mesh, Surface};
+use squeal::mesh::{block::block, Material};
 use squeal::model::{self, Model, Operators};
 use squeal::petsc::Runtime;
 use squeal::study::config::Study;
@@ -49,45 +50,6 @@ fn main() {
 
 fn e<E: std::fmt::Display>(err: E) -> String {
     err.to_string()
-}
-
-/// Two meshes side by side in one (nodes of `b` after those of `a`); parts, sets and
-/// surfaces keep their names with a prefix.
-fn merge(a: &Mesh, pa: &str, b: &Mesh, pb: &str) -> Mesh {
-    let mut m = Mesh::default();
-    for (mesh, prefix) in [(a, pa), (b, pb)] {
-        let node0 = m.nodes.len();
-        let element0 = m.elements.len();
-        m.nodes.extend_from_slice(&mesh.nodes);
-        m.elements
-            .extend(mesh.elements.iter().map(|c| c.map(|n| n + node0)));
-        for p in &mesh.parts {
-            let mut p = p.clone();
-            p.name = format!("{prefix}{}", p.name);
-            p.elements.iter_mut().for_each(|e| *e += element0);
-            m.parts.push(p);
-        }
-        for (k, v) in &mesh.materials {
-            m.materials.insert(k.clone(), v.clone());
-        }
-        for (k, v) in &mesh.node_sets {
-            m.node_sets.insert(
-                format!("{prefix}{k}"),
-                v.iter().map(|n| n + node0).collect(),
-            );
-        }
-        for (k, s) in &mesh.surfaces {
-            let mut s: Surface = s.clone();
-            for f in &mut s.faces {
-                f.element += element0;
-                f.nodes = f.nodes.map(|n| n + node0);
-            }
-            m.surfaces.insert(format!("{prefix}{k}"), s);
-        }
-    }
-    m.node_labels = (1..=m.nodes.len() as i64).collect();
-    m.element_labels = (1..=m.elements.len() as i64).collect();
-    m
 }
 
 /// A steel block (0.1 x 0.06 x 0.02) pressed by 1 MPa onto a larger base with a different

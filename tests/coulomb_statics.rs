@@ -5,6 +5,7 @@
 mod common;
 
 use common::harness::Check;
+use common::meshes::merge;
 use squeal::analysis::restraint;
 use squeal::analysis::statics::{self, StaticOptions, StaticProblem, StaticSolution};
 use squeal::contact::{
@@ -12,7 +13,7 @@ use squeal::contact::{
 };
 use squeal::fem::springs::{add_ground_springs, GroundSpring};
 use squeal::fem::{assemble, DofMap, StructureOptions, Support};
-use squeal::mesh::{block::block, Material, Mesh, Surface};
+use squeal::mesh::{block::block, Material, Mesh};
 use squeal::petsc::{Matrix, Runtime, Vector};
 
 const CHECKS: &[Check] = &[Check {
@@ -28,44 +29,6 @@ fn main() {
 
 fn e<E: std::fmt::Display>(err: E) -> String {
     err.to_string()
-}
-
-/// `a` then `b` in one mesh, names prefixed.
-fn merge(a: &Mesh, pa: &str, b: &Mesh, pb: &str) -> Mesh {
-    let mut m = Mesh::default();
-    for (mesh, prefix) in [(a, pa), (b, pb)] {
-        let node0 = m.nodes.len();
-        let element0 = m.elements.len();
-        m.nodes.extend_from_slice(&mesh.nodes);
-        m.elements
-            .extend(mesh.elements.iter().map(|c| c.map(|n| n + node0)));
-        for p in &mesh.parts {
-            let mut p = p.clone();
-            p.name = format!("{prefix}{}", p.name);
-            p.elements.iter_mut().for_each(|e| *e += element0);
-            m.parts.push(p);
-        }
-        for (k, v) in &mesh.materials {
-            m.materials.insert(k.clone(), v.clone());
-        }
-        for (k, v) in &mesh.node_sets {
-            m.node_sets.insert(
-                format!("{prefix}{k}"),
-                v.iter().map(|n| n + node0).collect(),
-            );
-        }
-        for (k, s) in &mesh.surfaces {
-            let mut s: Surface = s.clone();
-            for f in &mut s.faces {
-                f.element += element0;
-                f.nodes = f.nodes.map(|n| n + node0);
-            }
-            m.surfaces.insert(format!("{prefix}{k}"), s);
-        }
-    }
-    m.node_labels = (1..=m.nodes.len() as i64).collect();
-    m.element_labels = (1..=m.elements.len() as i64).collect();
-    m
 }
 
 const MU: f64 = 0.3;

@@ -60,10 +60,6 @@ pub enum Status {
 }
 
 impl Status {
-    pub fn closed(self) -> bool {
-        self != Status::Open
-    }
-
     pub fn name(self) -> &'static str {
         match self {
             Status::Open => "open",
@@ -197,11 +193,6 @@ impl SlipHistory {
                 .collect(),
         }
     }
-
-    /// Whether every anchor is zero.
-    pub fn is_empty(&self) -> bool {
-        self.anchors.iter().flatten().all(|a| *a == [0.0; 3])
-    }
 }
 
 /// The law of a pair's point (`k_t` = 0 for steady sliding).
@@ -317,7 +308,5 @@ mod tests {
         let s = h.subset(&[2, 0]);
         assert_eq!(s.anchor(0, 0), [0.0, 2.0, 0.0]);
         assert_eq!(s.anchor(1, 0), [1.0, 0.0, 0.0]);
-        assert!(SlipHistory::default().is_empty());
-        assert!(!h.is_empty());
     }
 }
