@@ -537,9 +537,14 @@ fn skew_corrections<'rt>(
     // Gram matrix, so every rank keeps the same columns.
     let m_orth = m_ii.mult_dense(&orth)?;
     let gram = orth.transpose_mult(&m_orth)?;
-    // The corrections' size before the projection: what "in the span" is measured against.
+    // What "in the span" is measured against: the corrections' size before the projection,
+    // and at least the modes' own (each has unit M-norm), so that a skew part at round-off
+    // (a kept pair all sticking: symmetric up to the last bit) adds no noise vectors.
     let gram_e = e.transpose_mult(&m_e)?;
-    let before: f64 = (0..n_m).map(|j| gram_e[(j, j)]).sum();
+    let before: f64 = (0..n_m)
+        .map(|j| gram_e[(j, j)] / gram_phi[(j, j)])
+        .sum::<f64>()
+        .max(n_m as f64);
     let evd = gram
         .self_adjoint_eigen(faer::Side::Lower)
         .map_err(|err| SuperElementError::Fit(format!("corrections' Gram matrix: {err:?}")))?;
