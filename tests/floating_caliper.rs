@@ -9,6 +9,7 @@
 mod common;
 
 use common::harness::Check;
+use squeal::analysis::cea::{self, CeaOptions};
 use squeal::analysis::restraint;
 use squeal::analysis::statics::{self, StaticOptions, StaticProblem};
 use squeal::contact;
@@ -20,10 +21,18 @@ use squeal::study::config::Study;
 
 const CHECKS: &[Check] = &[
     Check {
-        name: "floating_caliper_static_balance",
+        name: "floating_caliper_static_balance_and_cea",
         run: balance,
         ranks: &[1, 2],
-        agreement: 1e-7,
+        // The 1e-8: Newton stops at |R| < 1e-10 |R0|, the forces and frequencies
+        // then agree to ~1e-10 of the hydraulic force.
+        agreement: 1e-8,
+    },
+    Check {
+        name: "floating_caliper_restraint_and_a_removed_guide_pin",
+        run: restraint_check,
+        ranks: &[1, 2],
+        agreement: 0.0,
     },
     Check {
         name: "floating_caliper_without_guides_fails_cleanly",
@@ -42,26 +51,24 @@ fn e<E: std::fmt::Display>(err: E) -> String {
 }
 
 /// The static solution of the tiny floating-caliper study, pads guided radially or not.
-fn solve(
-    rt: &Runtime,
-    guided: bool,
-) -> Result<(Model, Result<statics::StaticSolution, String>), String> {
+type Solved<'rt> = (
+    Model,
+    Operators<'rt>,
+    Result<statics::StaticSolution, String>,
+);
+
+fn solve(rt: &Runtime, guided: bool) -> Result<Solved<'_>, String> {
     let comm = rt.world();
     let mut study = Study::builtin("tiny-caliper");
     if !guided {
         study.springs.retain(|s| !s.set.ends_with("_guides"));
     }
     let model = Model::from_spec(&study.model_spec()).map_err(e)?;
-    let Operators {
-        dofs,
-        stiffness: k,
-        load,
-        ..
-    } = model::assemble(comm, &model, MassRule::Exact).map_err(e)?;
+    let operators = model::assemble(comm, &model, MassRule::Exact).map_err(e)?;
     let problem = StaticProblem {
-        dofs: &dofs,
-        stiffness: &k,
-        load: &load,
+        dofs: &operators.dofs,
+        stiffness: &operators.stiffness,
+        load: &operators.load,
         pairs: &model.pairs,
         slip: &contact::SlipHistory::default(),
         bodies: &restraint::bodies(&model.mesh),
@@ -72,7 +79,7 @@ fn solve(
         ..StaticOptions::default()
     };
     let solution = statics::solve(comm, &problem, None, &options).map_err(e);
-    Ok((model, solution))
+    Ok((model, operators, solution))
 }
 
 /// Hydraulic force on the piston = piston/pad normal force + the seal's axial force on the
@@ -80,7 +87,7 @@ fn solve(
 /// seal's axial forces on the caliper; each pad in balance under the disc, the piston or the
 /// fingers, the bracket abutments and the clips (at mu = 0.5, the study's).
 fn balance(rt: &Runtime) -> Result<Vec<f64>, String> {
-    let (model, solution) = solve(rt, true)?;
+    let (model, operators, solution) = solve(rt, true)?;
     let solution = solution?;
     let u = &solution.displacement;
     let force = |name: &str| -> Result<contact::PairSummary, String> {
@@ -237,7 +244,40 @@ fn balance(rt: &Runtime) -> Result<Vec<f64>, String> {
             ));
         }
     }
-    Ok(vec![
+    // The CEA at this equilibrium: every mode up to 3 kHz, the same on 1 and 2 ranks (its
+    // frequencies, and the real parts of the unstable ones; a stable mode's real part is
+    // round-off of the eigensolver).
+    let comm = rt.world();
+    let kt = statics::tangent(
+        comm,
+        &operators.stiffness,
+        &operators.dofs,
+        &model.pairs,
+        &solution.slip_before,
+        u,
+    )
+    .map_err(e)?;
+    let modes = cea::undamped(
+        comm,
+        &kt,
+        &operators.mass,
+        &CeaOptions {
+            max_frequency_hz: 3000.0,
+            ..Default::default()
+        },
+    )
+    .map_err(e)?
+    .modes;
+    let unstable: Vec<f64> = modes
+        .iter()
+        .filter(|m| m.unstable)
+        .map(|m| m.real_part)
+        .collect();
+    eprintln!(
+        "CEA to 3 kHz: {} modes, unstable real parts {unstable:?}",
+        modes.len()
+    );
+    let mut out = vec![
         applied,
         n_piston,
         n_fingers,
@@ -245,7 +285,11 @@ fn balance(rt: &Runtime) -> Result<Vec<f64>, String> {
         disc_out.normal_force,
         seal_on_piston,
         pins_on_caliper,
-    ])
+        modes.len() as f64,
+    ];
+    out.extend(modes.iter().map(|m| m.frequency_hz));
+    out.extend(unstable);
+    Ok(out)
 }
 
 /// Without the abutment clips the pads are held radially only by friction: the static solve
@@ -254,7 +298,7 @@ fn balance(rt: &Runtime) -> Result<Vec<f64>, String> {
 /// then holds them radially: the solve must fail with a message on every rank, not hang or
 /// return an equilibrium.
 fn free_pads(rt: &Runtime) -> Result<Vec<f64>, String> {
-    let (_, solution) = solve(rt, false)?;
+    let (_, _, solution) = solve(rt, false)?;
     match solution {
         Ok(_) => Err("the unguided pads were held".into()),
         Err(message) => {
@@ -266,4 +310,80 @@ fn free_pads(rt: &Runtime) -> Result<Vec<f64>, String> {
             }
         }
     }
+}
+
+/// The restraint check on the floating-caliper brake, at rest: every body held (with and
+/// without friction: pins, seal, clips, supports and normal contact hold it all). With the
+/// guide pins removed, the caliper is held only by the stick of its fingers: the check
+/// without friction names it, with the piston its seal ties it to, free to slide across
+/// the disc axis (x and y) -- and nothing else.
+fn restraint_check(rt: &Runtime) -> Result<Vec<f64>, String> {
+    let comm = rt.world();
+    let mut counts = Vec::new();
+    for pins in [true, false] {
+        let mut study = Study::builtin("tiny-caliper");
+        if !pins {
+            study.links.retain(|l| l.name != "guide pins");
+        }
+        let model = Model::from_spec(&study.model_spec()).map_err(e)?;
+        let Operators {
+            dofs,
+            stiffness: k,
+            load,
+            ..
+        } = model::assemble(comm, &model, MassRule::Exact).map_err(e)?;
+        let bodies = restraint::bodies(&model.mesh);
+        let names: Vec<String> = bodies.iter().map(|b| b.name()).collect();
+        if bodies.len() != 6 {
+            return Err(format!("expected 6 bodies, found {names:?}"));
+        }
+        let problem = StaticProblem {
+            dofs: &dofs,
+            stiffness: &k,
+            load: &load,
+            pairs: &model.pairs,
+            slip: &contact::SlipHistory::default(),
+            bodies: &bodies,
+        };
+        let rest = vec![[0.0; 3]; model.mesh.nodes.len()];
+        let slip = contact::SlipHistory::default();
+        let j = statics::tangent(comm, &k, &dofs, &model.pairs, &slip, &rest).map_err(e)?;
+        let with_friction = restraint::free_bodies(comm, &j, &dofs, &bodies).map_err(e)?;
+        if !with_friction.is_empty() {
+            return Err(format!(
+                "free with friction (pins {pins}): {with_friction:?}"
+            ));
+        }
+        let free = statics::held_only_by_friction(comm, &problem, &rest).map_err(e)?;
+        for f in &free {
+            eprintln!("pins {pins}: {f}");
+        }
+        if pins {
+            if !free.is_empty() {
+                return Err(format!("held only by friction with the pins: {free:?}"));
+            }
+        } else {
+            let [one] = &free[..] else {
+                return Err(format!("expected one free group, found {free:?}"));
+            };
+            let mut moving = one.with.clone();
+            moving.push(one.body.clone());
+            moving.sort();
+            if moving != ["caliper", "piston"] {
+                return Err(format!("expected the caliper with the piston: {one}"));
+            }
+            // Two free motions, translations across the axis: no rotation, nothing along z.
+            let inside =
+                |axis: usize| -> f64 { one.motions.iter().map(|m| m[axis] * m[axis]).sum() };
+            let text = one.to_string();
+            if one.motions.len() != 2 || inside(0) < 0.99 || inside(1) < 0.99 {
+                return Err(format!("expected x and y translations: {text}"));
+            }
+            if !text.contains("'piston'") || !text.contains("translation along x") {
+                return Err(format!("message does not name the motion: {text}"));
+            }
+        }
+        counts.push(free.len() as f64);
+    }
+    Ok(counts)
 }

@@ -15,7 +15,7 @@
 
 use crate::fem::DofMap;
 use crate::mesh::Mesh;
-use crate::petsc::{Comm, Matrix, PetscError, Vector};
+use crate::petsc::{Comm, Matrix, PetscError};
 
 /// Relative level below which a rigid motion counts as unrestrained (see the module doc).
 const FREE_LEVEL: f64 = 1e-9;
@@ -122,6 +122,8 @@ fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
 #[derive(Clone, Debug, PartialEq)]
 pub struct FreeBody {
     pub body: String,
+    /// Other bodies that move with it in its free motions (empty: it is free alone).
+    pub with: Vec<String>,
     pub centre: [f64; 3],
     /// Orthonormal basis of its free motions: (translation x, y, z, rotation x, y, z).
     pub motions: Vec<[f64; 6]>,
@@ -161,7 +163,17 @@ impl std::fmt::Display for FreeBody {
                 )
             }
         };
-        write!(f, "'{}' is free: ", self.body)?;
+        if self.with.is_empty() {
+            write!(f, "'{}' is free: ", self.body)?;
+        } else {
+            let others: Vec<String> = self.with.iter().map(|b| format!("'{b}'")).collect();
+            write!(
+                f,
+                "'{}' is free together with {} (moving as one): ",
+                self.body,
+                others.join(", ")
+            )?;
+        }
         if self.motions.len() == 1 {
             return write!(f, "{}", describe(&self.motions[0]));
         }
@@ -193,6 +205,13 @@ impl std::fmt::Display for FreeBody {
 
 /// The rigid motions of `bodies` that `stiffness` leaves unrestrained (collective).
 /// Supported DOFs are eliminated from `stiffness`, so supports restrain by construction.
+///
+/// The motions of all bodies are tested together, not one body at a time: a piston tied to
+/// a caliper by its seal is held against moving alone, yet the two may be free to move as
+/// one (both slide off with nothing but friction holding them). Each body's six motions are
+/// scaled by its own reference `k_max sqrt(n)`, so a motion of one body is judged exactly
+/// as before; the null space of the joint Gram matrix is then split into groups of bodies
+/// that move together (its projector has no block between independent groups).
 pub fn free_bodies<'rt>(
     comm: Comm<'rt>,
     stiffness: &Matrix<'rt>,
@@ -201,7 +220,10 @@ pub fn free_bodies<'rt>(
 ) -> Result<Vec<FreeBody>, PetscError> {
     let owned = dofs.owned_equations();
     let diagonal = stiffness.diagonal()?.read()?.to_vec();
-    let mut free = Vec::new();
+    // The tested bodies and the scaled images K r / reference of their six motions (this
+    // rank's rows), body-major.
+    let mut tested: Vec<&Body> = Vec::new();
+    let mut images: Vec<Vec<f64>> = Vec::new();
     for body in bodies {
         let scale = body.size.max(f64::MIN_POSITIVE);
         // Equations of the body (global count) and its stiffest diagonal entry.
@@ -222,7 +244,7 @@ pub fn free_bodies<'rt>(
         if counts[0] == 0.0 || k_max[0] == 0.0 {
             continue;
         }
-        let mut images: Vec<Vector<'rt>> = Vec::with_capacity(6);
+        let reference = k_max[0] * counts[0].sqrt();
         for motion in 0..6 {
             let mut local = vec![0.0; owned.len()];
             for (&node, &x) in body.nodes.iter().zip(&body.positions) {
@@ -251,33 +273,144 @@ pub fn free_bodies<'rt>(
             let (mut r, mut y) = stiffness.vectors()?;
             r.set_local(&local)?;
             stiffness.mult(&r, &mut y)?;
-            images.push(y);
+            images.push(y.read()?.iter().map(|v| v / reference).collect());
         }
-        let mut gram = [[0.0; 6]; 6];
-        for a in 0..6 {
-            for b in a..6 {
-                let g = images[a].dot(&images[b])?;
-                gram[a][b] = g;
-                gram[b][a] = g;
-            }
-        }
-        let reference = k_max[0] * counts[0].sqrt();
-        let (values, vectors) = symmetric_eigen(gram);
-        let levels = values.map(|v| v.max(0.0).sqrt() / reference);
-        let motions: Vec<[f64; 6]> = (0..6)
-            .filter(|&k| levels[k] < FREE_LEVEL)
-            .map(|k| vectors[k])
-            .collect();
-        if !motions.is_empty() {
-            free.push(FreeBody {
-                body: body.name(),
-                centre: body.centre,
-                level: levels[motions.len() - 1],
-                motions,
-            });
+        tested.push(body);
+    }
+    let m = images.len();
+    if m == 0 {
+        return Ok(Vec::new());
+    }
+    // One reduction for the whole Gram matrix: every rank then holds the same bits and
+    // takes the same decisions.
+    let mut gram = vec![0.0; m * m];
+    for a in 0..m {
+        for b in a..m {
+            gram[a * m + b] = images[a].iter().zip(&images[b]).map(|(x, y)| x * y).sum();
         }
     }
+    comm.sum_in_place(&mut gram);
+    let (values, vectors) = symmetric_eigen_dense(m, |a, b| gram[a.min(b) * m + a.max(b)]);
+    let null: Vec<(f64, &Vec<f64>)> = values
+        .iter()
+        .zip(&vectors)
+        .map(|(&v, x)| (v.max(0.0).sqrt(), x))
+        .filter(|(level, _)| *level < FREE_LEVEL)
+        .collect();
+    if null.is_empty() {
+        return Ok(Vec::new());
+    }
+    // The projector P = N N^T onto the free motions, by 6x6 blocks between bodies.
+    let n_bodies = tested.len();
+    let block = |b: usize, c: usize| -> f64 {
+        let mut sum = 0.0;
+        for i in 6 * b..6 * b + 6 {
+            for j in 6 * c..6 * c + 6 {
+                let p: f64 = null.iter().map(|(_, x)| x[i] * x[j]).sum();
+                sum += p * p;
+            }
+        }
+        sum.sqrt()
+    };
+    // Bodies that move in some free motion, grouped by the motions they share. A body's
+    // share of a free motion is at least ~1/6 of it when it takes part (its diagonal block
+    // of P then has norm >= ~0.1); round-off leaves ~1e-8.
+    const SHARE: f64 = 1e-3;
+    let moving: Vec<usize> = (0..n_bodies).filter(|&b| block(b, b) > SHARE).collect();
+    let mut group: Vec<usize> = (0..n_bodies).collect();
+    fn root(group: &mut [usize], mut i: usize) -> usize {
+        while group[i] != i {
+            group[i] = group[group[i]];
+            i = group[i];
+        }
+        i
+    }
+    for (k, &b) in moving.iter().enumerate() {
+        for &c in &moving[k + 1..] {
+            if block(b, c) > SHARE {
+                let (rb, rc) = (root(&mut group, b), root(&mut group, c));
+                group[rb.max(rc)] = rb.min(rc);
+            }
+        }
+    }
+    let mut free = Vec::new();
+    for &b in &moving {
+        if root(&mut group, b) != b {
+            continue;
+        }
+        let members: Vec<usize> = moving
+            .iter()
+            .copied()
+            .filter(|&c| root(&mut group, c) == b)
+            .collect();
+        // The free motions this group takes part in, and how far below the threshold.
+        let share = |x: &[f64]| -> f64 {
+            members
+                .iter()
+                .map(|&c| x[6 * c..6 * c + 6].iter().map(|v| v * v).sum::<f64>())
+                .sum()
+        };
+        let level = null
+            .iter()
+            .filter(|(_, x)| share(x) > 0.5)
+            .map(|(level, _)| *level)
+            .fold(0.0, f64::max);
+        // Described on the member that moves most, in its own frame: an orthonormal basis
+        // of its six-vectors in the group's free motions.
+        let lead = *members
+            .iter()
+            .max_by(|&&c, &&d| block(c, c).total_cmp(&block(d, d)))
+            .expect("a group has a member");
+        let mut own = [[0.0; 6]; 6];
+        for (_, x) in &null {
+            for i in 0..6 {
+                for j in 0..6 {
+                    own[i][j] += x[6 * lead + i] * x[6 * lead + j];
+                }
+            }
+        }
+        let (weights, basis) = symmetric_eigen(own);
+        let largest = weights[5].max(f64::MIN_POSITIVE);
+        let motions: Vec<[f64; 6]> = (0..6)
+            .rev()
+            .filter(|&k| weights[k] > SHARE * largest)
+            .map(|k| basis[k])
+            .collect();
+        free.push(FreeBody {
+            body: tested[lead].name(),
+            with: members
+                .iter()
+                .filter(|&&c| c != lead)
+                .map(|&c| tested[c].name())
+                .collect(),
+            centre: tested[lead].centre,
+            level,
+            motions,
+        });
+    }
     Ok(free)
+}
+
+/// Eigenvalues (ascending) and unit eigenvectors of the symmetric `n x n` matrix `a(i, j)`.
+fn symmetric_eigen_dense(n: usize, a: impl Fn(usize, usize) -> f64) -> (Vec<f64>, Vec<Vec<f64>>) {
+    let m = faer::Mat::<f64>::from_fn(n, n, a);
+    match m.self_adjoint_eigen(faer::Side::Lower) {
+        Ok(evd) => {
+            let (s, u) = (evd.S().column_vector(), evd.U());
+            let mut order: Vec<usize> = (0..n).collect();
+            order.sort_by(|&i, &j| s[i].total_cmp(&s[j]));
+            (
+                order.iter().map(|&k| s[k]).collect(),
+                order
+                    .iter()
+                    .map(|&k| (0..n).map(|i| u[(i, k)]).collect())
+                    .collect(),
+            )
+        }
+        // Only non-finite input fails: nothing can be said here, and the solve that follows
+        // reports the non-finite tangent itself.
+        Err(_) => (Vec::new(), Vec::new()),
+    }
 }
 
 /// Eigenvalues (ascending) and unit eigenvectors of a symmetric 6x6 matrix (faer).
@@ -347,6 +480,7 @@ mod tests {
     fn free_motions_are_described_in_words() {
         let one = FreeBody {
             body: "pad".into(),
+            with: Vec::new(),
             centre: [0.1, 0.0, 0.0],
             motions: vec![[0.0, 0.999, 0.0, 0.0, 0.0, 0.01]],
             level: 1e-15,

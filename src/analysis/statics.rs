@@ -319,6 +319,37 @@ pub fn node_displacements(x: &Vector, dofs: &DofMap) -> Result<Vec<[f64; 3]>, Pe
     Ok(dofs.displacements(&x.gather_all()?))
 }
 
+/// The rigid motions of `problem.bodies` that only friction holds at `u`: the restraint
+/// check on the tangent with every pair's friction taken out (normal contact, supports,
+/// springs and links kept). A caliper whose guide pins are missing is still held by the
+/// stick of its fingers on the pad, so the equilibrium exists and [`solve`] does not fail;
+/// but its modes then rest on a stick stiffness that is a numerical setting, and a user
+/// should be told which body it is. Collective.
+pub fn held_only_by_friction<'rt>(
+    comm: Comm<'rt>,
+    problem: &StaticProblem<'_, 'rt>,
+    u: &[[f64; 3]],
+) -> Result<Vec<FreeBody>, StaticsError> {
+    if problem.bodies.is_empty() {
+        return Ok(Vec::new());
+    }
+    let pairs: Vec<ContactPair> = problem.pairs.iter().map(|p| p.frictionless()).collect();
+    let j = tangent(
+        comm,
+        problem.stiffness,
+        problem.dofs,
+        &pairs,
+        &SlipHistory::default(),
+        u,
+    )?;
+    Ok(restraint::free_bodies(
+        comm,
+        &j,
+        problem.dofs,
+        problem.bodies,
+    )?)
+}
+
 /// Solves the equilibrium from `initial` (a previous solution, or zero). Collective.
 pub fn solve<'rt>(
     comm: Comm<'rt>,

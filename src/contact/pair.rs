@@ -247,6 +247,15 @@ impl ContactPair {
             }
         }
     }
+
+    /// The same pair without friction: only its normal law acts (what holds a body when
+    /// nothing can be asked of friction).
+    pub fn frictionless(&self) -> ContactPair {
+        let mut pair = self.clone();
+        pair.settings.friction = 0.0;
+        pair.settings.law = FrictionLaw::SteadySliding;
+        pair
+    }
 }
 
 /// Tolerance on a unit vector's length and on the sum of a point's weights: both come from

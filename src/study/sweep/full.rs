@@ -183,6 +183,7 @@ impl<'rt> FullModel<'rt> {
         mu: f64,
     ) -> anyhow::Result<statics::StaticSolution> {
         let Some(previous) = self.previous.take() else {
+            self.warn_held_only_by_friction(comm)?;
             let equilibrium = self
                 .solve_static(
                     comm,
@@ -278,6 +279,34 @@ impl<'rt> FullModel<'rt> {
                 ..Default::default()
             },
         )
+    }
+
+    /// Names on rank 0's log every body that only friction holds against rigid motion (a
+    /// forgotten guide pin): the solve goes on, as Abaqus's would, since stick is a
+    /// restraint, but the user learns which body rests on it. Collective.
+    fn warn_held_only_by_friction(&self, comm: Comm<'rt>) -> Result<(), statics::StaticsError> {
+        let Operators {
+            dofs,
+            stiffness,
+            load,
+            ..
+        } = &self.operators;
+        let problem = StaticProblem {
+            dofs,
+            stiffness,
+            load,
+            pairs: &self.model.pairs,
+            slip: &SlipHistory::default(),
+            bodies: &self.bodies,
+        };
+        let rest = vec![[0.0; 3]; self.model.mesh.nodes.len()];
+        for free in statics::held_only_by_friction(comm, &problem, &rest)? {
+            tracing::warn!(
+                "only friction holds a body: {free}; give it supports, springs or links \
+                 (guide pins) if it is not meant to rest on the stick of its contacts"
+            );
+        }
+        Ok(())
     }
 
     fn remember(&mut self, mu: f64, equilibrium: &statics::StaticSolution) {
