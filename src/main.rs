@@ -52,7 +52,7 @@ enum Command {
         /// A .msh or .inp file to convert; the built-in brake when absent.
         mesh: Option<PathBuf>,
         /// Built-in brake preset (tiny, small, medium, industrial; tiny-caliper ... industrial-caliper for the floating-caliper layout).
-        #[arg(long, default_value = "small")]
+        #[arg(long, default_value = squeal::mesh::brake::DEFAULT_PRESET)]
         preset: String,
         /// Output .msh file (a .vtu with the same stem is written beside it).
         #[arg(short, long, default_value = "brake.msh")]
@@ -147,7 +147,7 @@ enum Command {
         /// step (supports, number of modes, upper frequency) is run as written.
         mesh: Option<PathBuf>,
         /// Built-in brake preset (tiny, small, medium, industrial; tiny-caliper ... industrial-caliper for the floating-caliper layout).
-        #[arg(long, default_value = "small")]
+        #[arg(long, default_value = squeal::mesh::brake::DEFAULT_PRESET)]
         preset: String,
         /// Every mode from 0 up to this frequency (Hz).
         #[arg(long, conflicts_with = "nev")]

@@ -156,6 +156,47 @@ fn failure(args: &[&str]) -> String {
     stderr
 }
 
+/// With no file and no preset, the study is the paper's floating-caliper brake: Table 1's
+/// four interfaces (slave = pad side) with their friction and separation flags, the disc's
+/// swept, the others Coulomb.
+#[test]
+fn the_builtin_study_is_the_floating_caliper_brake() {
+    let dir = scratch("default-study");
+    let file = dir.join("study.toml");
+    success(1, &["sweep", "--write-study", file.to_str().unwrap()]);
+    let study: toml::Value = toml::from_str(&std::fs::read_to_string(&file).unwrap()).unwrap();
+    assert_eq!(study["mesh"]["preset"].as_str(), Some("small-caliper"));
+    let contacts = study["contacts"].as_array().unwrap();
+    // (name prefix, count, mu, separation, coulomb)
+    let table1 = [
+        ("disc/pad", 2, 0.5, true, false),
+        ("piston/pad", 1, 0.15, false, true),
+        ("bracket/pad", 4, 0.15, true, true),
+        ("caliper/pad", 1, 0.15, false, true),
+    ];
+    for (prefix, count, mu, separation, coulomb) in table1 {
+        let pairs: Vec<&toml::Value> = contacts
+            .iter()
+            .filter(|c| c["name"].as_str().unwrap().starts_with(prefix))
+            .collect();
+        assert_eq!(pairs.len(), count, "{prefix}: {contacts:?}");
+        for c in pairs {
+            assert_eq!(c["friction"].as_float(), Some(mu), "{c}");
+            assert_eq!(c["separation"].as_bool(), Some(separation), "{c}");
+            let law = c.get("friction_law").and_then(|l| l.as_str());
+            assert_eq!(law == Some("coulomb"), coulomb, "{c}");
+            // The disc/pad pairs are the swept ones.
+            assert_eq!(c["sweep"].as_bool(), Some(!coulomb), "{c}");
+            assert!(
+                c["slave"].as_str().unwrap().starts_with("pad_")
+                    || c["slave"].as_str().unwrap().starts_with("backplate_"),
+                "{c}"
+            );
+        }
+    }
+    assert_eq!(contacts.len(), 8);
+}
+
 #[test]
 fn bad_studies_name_the_file_and_the_key_and_write_nothing() {
     let dir = scratch("bad");

@@ -50,7 +50,7 @@ impl Model {
                 m
             }
             None => {
-                let preset = spec.mesh.preset.as_deref().unwrap_or("small");
+                let preset = spec.mesh.preset.as_deref().unwrap_or(brake::DEFAULT_PRESET);
                 let params = match &spec.mesh.brake {
                     Some(p) => p.clone(),
                     None => brake::preset(preset).ok_or_else(|| ModelError::Invalid {

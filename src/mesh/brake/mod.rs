@@ -58,7 +58,9 @@ mod sets;
 #[cfg(test)]
 mod test_geometry;
 
-pub use params::{preset, BrakeParams, Divisions, Elastic, Layout, Rotation, PRESETS};
+pub use params::{
+    preset, BrakeParams, Divisions, Elastic, Layout, Rotation, DEFAULT_PRESET, PRESETS,
+};
 
 use crate::mesh::{Mesh, MeshError};
 

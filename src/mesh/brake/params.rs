@@ -310,6 +310,10 @@ impl Default for BrakeParams {
     }
 }
 
+/// The built-in brake when none is named: the paper's floating-caliper brake (Table 1's
+/// four contacts), at the size whose sweep runs in minutes on a workstation.
+pub const DEFAULT_PRESET: &str = "small-caliper";
+
 /// Names accepted by [`preset`], from coarsest to finest: `tiny` (3,010 nodes, for unit
 /// tests), `small` (19,806, the default), `medium` (64,490) and `industrial` (192,690 nodes,
 /// 128,280 elements: the size of the paper's brake model, 176,956 nodes), the spring-held

@@ -191,7 +191,11 @@ pub fn study_from_args(
             path.display().to_string(),
         ),
         None => (
-            Study::builtin(args.preset.as_deref().unwrap_or("small")),
+            Study::builtin(
+                args.preset
+                    .as_deref()
+                    .unwrap_or(crate::mesh::brake::DEFAULT_PRESET),
+            ),
             "built-in study".to_string(),
         ),
     };
