@@ -142,10 +142,15 @@ impl std::fmt::Display for Info {
 }
 
 /// Runs `squeal info` (collective); rank 0 prints.
-pub fn run(rt: &Runtime, json: bool) -> anyhow::Result<()> {
+pub fn run(rt: &Runtime, json: bool) -> Result<(), super::StudyError> {
     if let Some(info) = gather(rt)? {
         if json {
-            println!("{}", serde_json::to_string_pretty(&info)?);
+            let text =
+                serde_json::to_string_pretty(&info).map_err(|source| super::StudyError::Json {
+                    what: "squeal info",
+                    source,
+                })?;
+            println!("{text}");
         } else {
             print!("{info}");
         }
