@@ -574,3 +574,20 @@ fn describe(e: &anyhow::Error) -> String {
     }
     line
 }
+
+#[cfg(test)]
+mod tests {
+    use super::describe;
+    use squeal::study::StudyError;
+
+    #[test]
+    fn describe_prints_each_cause_once() {
+        let io = std::io::Error::new(std::io::ErrorKind::NotFound, "gone");
+        // The message ends with its cause's: the cause is not repeated.
+        let e = anyhow::Error::from(StudyError::write("out/cea.json", io));
+        assert_eq!(describe(&e), "writing out/cea.json: gone");
+        // A context that does not repeat its cause gets it appended, as `{:#}` does.
+        let e = anyhow::Error::from(StudyError::OnAnotherRank.collective()).context("sweep");
+        assert_eq!(describe(&e), "sweep: failed on another rank");
+    }
+}
