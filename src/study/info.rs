@@ -41,7 +41,7 @@ const PACKAGES: &[&str] = &[
 ];
 
 /// Gathers the job's description on rank 0 (collective; `None` on the other ranks).
-pub fn gather(rt: &Runtime) -> crate::petsc::Result<Option<Info>> {
+pub fn gather(rt: &Runtime) -> Result<Option<Info>, super::StudyError> {
     let world = rt.mpi_world();
     let host = mpi::environment::processor_name().unwrap_or_else(|_| "?".into());
     let own = format!("{}\t{}\t{}", world.rank(), host, std::process::id());

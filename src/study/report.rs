@@ -3,8 +3,10 @@
 use super::error::StudyError;
 use std::path::Path;
 
-/// Writes `contents` to `path` whole or not at all, creating its folder.
-pub fn write_atomically(path: &Path, contents: &[u8]) -> std::io::Result<()> {
+/// Writes `contents` to `path` whole or not at all, creating its folder. A helper of the
+/// study layer: its public functions report a failure with the path
+/// ([`write_file`], [`StudyError::Write`]).
+pub(super) fn write_atomically(path: &Path, contents: &[u8]) -> std::io::Result<()> {
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir)?;
     }
