@@ -348,7 +348,7 @@ fn main() -> ExitCode {
         return match study::radius::run(json) {
             Ok(()) => ExitCode::SUCCESS,
             Err(e) => {
-                eprintln!("squeal: error: {e:#}");
+                eprintln!("squeal: error: {}", describe(&e.into()));
                 ExitCode::FAILURE
             }
         };
@@ -380,8 +380,8 @@ fn main() -> ExitCode {
             tracing::warn!("{w}");
         }
     }
-    let result = match cli.command {
-        Command::Info { json } => study::info::run(&rt, json),
+    let result: anyhow::Result<()> = match cli.command {
+        Command::Info { json } => study::info::run(&rt, json).map_err(Into::into),
         Command::Radius { .. } => unreachable!("answered before the runtime starts"),
         Command::Superelement {
             study,
@@ -403,7 +403,12 @@ fn main() -> ExitCode {
                 },
                 ..Default::default()
             };
-            study::sweep::superelement_command(&rt, study.as_deref(), args, &output)
+            Ok(study::sweep::superelement_command(
+                &rt,
+                study.as_deref(),
+                args,
+                &output,
+            )?)
         }),
         Command::Assemble {
             file,
@@ -423,18 +428,19 @@ fn main() -> ExitCode {
                 contact: squeal::reduce::assembly::CubicContact { k_linear, k_cubic },
                 output,
             },
-        ),
+        )
+        .map_err(Into::into),
         Command::Compare {
             reference,
             others,
             output,
-        } => study::compare::run(&rt, &reference, &others, &output),
+        } => study::compare::run(&rt, &reference, &others, &output).map_err(Into::into),
         Command::Bench {
             presets,
             repeat,
             fmax,
             output,
-        } => study::bench::run(&rt, &presets, repeat, fmax, &output),
+        } => study::bench::run(&rt, &presets, repeat, fmax, &output).map_err(Into::into),
         Command::Cea {
             stiffness,
             mass,
@@ -454,7 +460,8 @@ fn main() -> ExitCode {
                 modes_per_target: window,
                 output,
             },
-        ),
+        )
+        .map_err(Into::into),
         Command::Sweep {
             study,
             preset,
@@ -487,13 +494,18 @@ fn main() -> ExitCode {
                     k_cubic,
                 },
             };
-            study::sweep::run_command(&rt, study.as_deref(), args, write_study.as_deref())
+            Ok(study::sweep::run_command(
+                &rt,
+                study.as_deref(),
+                args,
+                write_study.as_deref(),
+            )?)
         }),
         Command::Mesh {
             mesh,
             preset,
             output,
-        } => study::write_mesh::run(&rt, mesh.as_deref(), &preset, &output),
+        } => study::write_mesh::run(&rt, mesh.as_deref(), &preset, &output).map_err(Into::into),
         Command::Modes {
             mesh,
             preset,
@@ -520,25 +532,62 @@ fn main() -> ExitCode {
                 output,
                 tolerance,
             },
-        ),
+        )
+        .map_err(Into::into),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
-        Err(e) if e.downcast_ref::<study::report::Collective>().is_some() => {
+        Err(e)
+            if e.downcast_ref::<study::StudyError>()
+                .is_some_and(study::StudyError::is_collective) =>
+        {
             // Every rank has this error: say it once, and every rank exits.
             if world.rank() == 0 {
-                eprintln!("squeal: error: {e:#}");
+                eprintln!("squeal: error: {}", describe(&e));
             }
             ExitCode::FAILURE
         }
         Err(e) => {
             if world.size() > 1 {
-                eprintln!("squeal: error on rank {}: {e:#}", world.rank());
+                eprintln!("squeal: error on rank {}: {}", world.rank(), describe(&e));
                 // The other ranks may be waiting in a collective call: stop them all.
                 rt.abort(1);
             }
-            eprintln!("squeal: error: {e:#}");
+            eprintln!("squeal: error: {}", describe(&e));
             ExitCode::FAILURE
         }
+    }
+}
+
+/// An error and its causes on one line, "what failed: why: why that", as anyhow's `{:#}`,
+/// except that a cause whose message already ends the line is not repeated: squeal's
+/// errors put their cause's message at the end of their own (so that `to_string()` alone
+/// says it all) and keep the cause as their `source()` too.
+fn describe(e: &anyhow::Error) -> String {
+    let mut line = e.to_string();
+    for cause in e.chain().skip(1) {
+        let text = cause.to_string();
+        if !line.ends_with(&text) {
+            line.push_str(": ");
+            line.push_str(&text);
+        }
+    }
+    line
+}
+
+#[cfg(test)]
+mod tests {
+    use super::describe;
+    use squeal::study::StudyError;
+
+    #[test]
+    fn describe_prints_each_cause_once() {
+        let io = std::io::Error::new(std::io::ErrorKind::NotFound, "gone");
+        // The message ends with its cause's: the cause is not repeated.
+        let e = anyhow::Error::from(StudyError::write("out/cea.json", io));
+        assert_eq!(describe(&e), "writing out/cea.json: gone");
+        // A context that does not repeat its cause gets it appended, as `{:#}` does.
+        let e = anyhow::Error::from(StudyError::OnAnotherRank.collective()).context("sweep");
+        assert_eq!(describe(&e), "sweep: failed on another rank");
     }
 }

@@ -44,8 +44,9 @@ impl Default for SearchOptions {
 
 impl SearchOptions {
     /// `Err` with a sentence when a tolerance is negative, zero where it must not be, or not
-    /// finite.
-    pub fn check(&self) -> Result<(), String> {
+    /// finite. A helper of this module: its public functions report it as a
+    /// [`ContactError`](super::ContactError).
+    pub(super) fn check(&self) -> Result<(), String> {
         if !(self.in_face_tolerance >= 0.0 && self.in_face_tolerance.is_finite()) {
             return Err(format!(
                 "in-face tolerance {} must be finite and >= 0",

@@ -7,7 +7,8 @@ use crate::analysis::cea::ComplexMode;
 use crate::petsc::Runtime;
 use crate::reduce::assembly::{Assembly, CubicContact, DenseCeaOptions, StaticOptions};
 use crate::reduce::superelement_file;
-use crate::study::report::{collective, write_atomically};
+use crate::study::report::{collective, json_for, write_file};
+use crate::study::StudyError;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -50,7 +51,7 @@ struct AssembleReport<'a> {
 }
 
 /// Collective: rank 0 computes and writes, every rank returns its verdict.
-pub fn run(rt: &Runtime, args: &AssembleArgs) -> anyhow::Result<()> {
+pub fn run(rt: &Runtime, args: &AssembleArgs) -> Result<(), StudyError> {
     let comm = rt.world();
     let local = if comm.rank() == 0 {
         assemble(args)
@@ -60,25 +61,23 @@ pub fn run(rt: &Runtime, args: &AssembleArgs) -> anyhow::Result<()> {
     collective(comm, local)
 }
 
-fn assemble(args: &AssembleArgs) -> anyhow::Result<()> {
+fn assemble(args: &AssembleArgs) -> Result<(), StudyError> {
     if args
         .friction
         .iter()
         .any(|mu| !(mu.is_finite() && *mu >= 0.0))
     {
-        anyhow::bail!(
-            "--friction: every value must be finite and >= 0, got {:?}",
-            args.friction
-        );
+        return Err(StudyError::BadFriction(args.friction.clone()));
     }
     if !(args.max_frequency_hz.is_finite() && args.max_frequency_hz > 0.0) {
-        anyhow::bail!(
-            "--fmax must be finite and > 0, got {}",
-            args.max_frequency_hz
-        );
+        return Err(StudyError::BadMaxFrequency(args.max_frequency_hz));
     }
     let se = superelement_file::read(&args.file, None)?;
-    let assembly = Assembly::new(&se, &args.contact)?;
+    let assembly =
+        Assembly::new(&se, &args.contact).map_err(|source| StudyError::AssemblyFromFile {
+            path: args.file.clone(),
+            source,
+        })?;
     let h = &se.header;
     println!(
         "{}: super-element made at mu = {}, size {} ({} boundary pairs, {} modes below {} Hz); eq. 5 residual there {:.2e}",
@@ -97,17 +96,22 @@ fn assemble(args: &AssembleArgs) -> anyhow::Result<()> {
     let mut start = se.equilibrium.clone();
     for &mu in &args.friction {
         let t = Instant::now();
-        let statics = assembly.solve_static_from(&start, mu, &StaticOptions::default())?;
+        let dense = |source| StudyError::DenseAssembly { mu, source };
+        let statics = assembly
+            .solve_static_from(&start, mu, &StaticOptions::default())
+            .map_err(dense)?;
         let static_seconds = t.elapsed().as_secs_f64();
         let t = Instant::now();
-        let cea = assembly.cea(
-            &statics.q,
-            mu,
-            &DenseCeaOptions {
-                max_frequency_hz: args.max_frequency_hz,
-                unstable_threshold: args.unstable_threshold,
-            },
-        )?;
+        let cea = assembly
+            .cea(
+                &statics.q,
+                mu,
+                &DenseCeaOptions {
+                    max_frequency_hz: args.max_frequency_hz,
+                    unstable_threshold: args.unstable_threshold,
+                },
+            )
+            .map_err(dense)?;
         let cea_seconds = t.elapsed().as_secs_f64();
         let worst = cea
             .modes
@@ -151,7 +155,7 @@ fn assemble(args: &AssembleArgs) -> anyhow::Result<()> {
         points,
     };
     let path = args.output.join("assemble.json");
-    write_atomically(&path, &serde_json::to_vec_pretty(&report)?)?;
+    write_file(&path, &json_for(&path, &report)?)?;
     println!("results in {}", path.display());
     Ok(())
 }

@@ -2,10 +2,12 @@
 //! presets, for a person to rerun (`mpirun -n 1` and `-n 2`) and compare. Medians of
 //! repeated runs, because the machine is shared and noisy.
 
-use super::report::write_atomically;
+use super::report::{json_for, write_file};
+use super::StudyError;
 use crate::analysis::modes::{real_modes, ModeBand, ModesOptions};
 use crate::fem::{assemble, DofMap, StructureOptions};
 use crate::mesh::brake;
+use crate::model::ModelError;
 use crate::petsc::Runtime;
 use std::path::Path;
 use std::time::Instant;
@@ -63,13 +65,13 @@ pub fn run(
     repeats: usize,
     max_frequency_hz: f64,
     output: &Path,
-) -> anyhow::Result<()> {
+) -> Result<(), StudyError> {
     let comm = rt.world();
     let root = comm.rank() == 0;
     let mut results = Vec::new();
     for preset in presets {
-        let params =
-            brake::preset(preset).ok_or_else(|| anyhow::anyhow!("unknown preset '{preset}'"))?;
+        let params = brake::preset(preset)
+            .ok_or_else(|| StudyError::Model(ModelError::UnknownPreset(preset.clone())))?;
         let mut t_mesh = vec![];
         let mut t_pattern = vec![];
         let mut t_assembly = vec![];
@@ -106,7 +108,8 @@ pub fn run(
                     band: ModeBand::Below { max_frequency_hz },
                     ..Default::default()
                 },
-            )?;
+            )
+            .map_err(|source| StudyError::Modes { source })?;
             t_modes.push(t.elapsed().as_secs_f64());
             t_total.push(start.elapsed().as_secs_f64());
             sizes = (
@@ -169,7 +172,7 @@ pub fn run(
                 r.peak_rss_mib_max_rank
             );
         }
-        write_atomically(output, &serde_json::to_vec_pretty(&results)?)?;
+        write_file(output, &json_for(output, &results)?)?;
         println!(
             "medians of {} run(s); written to {}",
             repeats.max(1),

@@ -2,12 +2,12 @@
 //! program (Matrix Market, CalculiX MATRIXSTORAGE, Abaqus *MATRIX GENERATE), and the CEA
 //! report shared with the brake study.
 
-use super::report::{collective, write_atomically};
+use super::report::{collective, create_dir, json_for, write_file};
+use super::StudyError;
 use crate::analysis::cea::{self, CeaOptions, ComplexMode};
 use crate::analysis::operators::matrix_from_entries;
 use crate::io::matrix;
 use crate::petsc::Runtime;
-use anyhow::Context;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -55,15 +55,16 @@ pub fn write_report<M: serde::Serialize>(
     modes: &[ComplexMode],
     max_frequency_hz: f64,
     model: M,
-) -> anyhow::Result<()> {
-    std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+) -> Result<(), StudyError> {
+    create_dir(dir)?;
     let doc = CeaDocument {
         eigenvalues: modes,
         unstable: modes.iter().filter(|m| m.unstable).count(),
         max_frequency_hz,
         model,
     };
-    write_atomically(&dir.join("cea.json"), &serde_json::to_vec_pretty(&doc)?)?;
+    let json = dir.join("cea.json");
+    write_file(&json, &json_for(&json, &doc)?)?;
     let mut csv = String::from("frequency_hz,real_part,damping_ratio,unstable,residual\n");
     for m in modes {
         csv.push_str(&format!(
@@ -71,7 +72,7 @@ pub fn write_report<M: serde::Serialize>(
             m.frequency_hz, m.real_part, m.damping_ratio, m.unstable, m.residual
         ));
     }
-    write_atomically(&dir.join("cea.csv"), csv.as_bytes())?;
+    write_file(&dir.join("cea.csv"), csv.as_bytes())?;
     Ok(())
 }
 
@@ -86,7 +87,7 @@ struct MatrixModel {
 }
 
 /// Runs `squeal cea` on matrix files (collective); rank 0 prints and writes.
-pub fn run(rt: &Runtime, args: &CeaArgs) -> anyhow::Result<()> {
+pub fn run(rt: &Runtime, args: &CeaArgs) -> Result<(), StudyError> {
     let comm = rt.world();
     let root = comm.rank() == 0;
     let started = Instant::now();

@@ -867,7 +867,7 @@ pub fn run(
     reference: &Path,
     others: &[PathBuf],
     output: &Path,
-) -> anyhow::Result<()> {
+) -> Result<(), super::StudyError> {
     let comm = rt.world();
     let comparison = crate::study::report::collective(comm, compare(reference, others))?;
     if comm.rank() == 0 {

@@ -41,7 +41,7 @@ const PACKAGES: &[&str] = &[
 ];
 
 /// Gathers the job's description on rank 0 (collective; `None` on the other ranks).
-pub fn gather(rt: &Runtime) -> crate::petsc::Result<Option<Info>> {
+pub fn gather(rt: &Runtime) -> Result<Option<Info>, super::StudyError> {
     let world = rt.mpi_world();
     let host = mpi::environment::processor_name().unwrap_or_else(|_| "?".into());
     let own = format!("{}\t{}\t{}", world.rank(), host, std::process::id());
@@ -142,10 +142,15 @@ impl std::fmt::Display for Info {
 }
 
 /// Runs `squeal info` (collective); rank 0 prints.
-pub fn run(rt: &Runtime, json: bool) -> anyhow::Result<()> {
+pub fn run(rt: &Runtime, json: bool) -> Result<(), super::StudyError> {
     if let Some(info) = gather(rt)? {
         if json {
-            println!("{}", serde_json::to_string_pretty(&info)?);
+            let text =
+                serde_json::to_string_pretty(&info).map_err(|source| super::StudyError::Json {
+                    what: "squeal info",
+                    source,
+                })?;
+            println!("{text}");
         } else {
             print!("{info}");
         }

@@ -1,4 +1,5 @@
-//! What a user asks for: one function per subcommand, called by `main.rs`.
+//! What a user asks for: one function per subcommand, called by `main.rs`. Every one
+//! returns a [`StudyError`] on failure.
 
 pub mod assemble;
 pub mod bench;
@@ -6,6 +7,7 @@ pub mod blas;
 pub mod cea;
 pub mod compare;
 pub mod config;
+pub mod error;
 pub mod info;
 pub mod modes;
 pub mod plot;
@@ -13,3 +15,5 @@ pub mod radius;
 pub mod report;
 pub mod sweep;
 pub mod write_mesh;
+
+pub use error::StudyError;

@@ -1,14 +1,14 @@
 //! `squeal modes`: real modes of a mesh file or of the built-in brake, as a table, JSON,
 //! CSV and a VTU file with every mode shape.
 
-use super::report::{collective, write_atomically};
+use super::report::{collective, create_dir, json_for, write_file};
+use super::StudyError;
 use crate::analysis::modes::{real_modes, ModeBand, ModesOptions, RealMode};
 use crate::analysis::restraint;
 use crate::fem::{assemble, element::MassRule, DofMap, StructureOptions};
 use crate::io::vtu::{Field, VtuWriter};
 use crate::model::{source, Model, ModelError};
 use crate::petsc::Runtime;
-use anyhow::Context;
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -35,7 +35,7 @@ pub fn load_model(
     preset: &str,
     fixes: &[String],
     materials: &[String],
-) -> anyhow::Result<Model> {
+) -> Result<Model, StudyError> {
     let local = (|| -> Result<Model, ModelError> {
         let mut m = match mesh {
             Some(path) => source::read(path)?,
@@ -72,7 +72,7 @@ pub struct ModelSummary {
 }
 
 /// Runs `squeal modes` (collective); rank 0 prints and writes.
-pub fn run(rt: &Runtime, args: &ModesArgs) -> anyhow::Result<()> {
+pub fn run(rt: &Runtime, args: &ModesArgs) -> Result<(), StudyError> {
     let comm = rt.world();
     let root = comm.rank() == 0;
     let started = Instant::now();
@@ -148,7 +148,7 @@ pub fn run(rt: &Runtime, args: &ModesArgs) -> anyhow::Result<()> {
             ..Default::default()
         },
     )
-    .context("real modes")?;
+    .map_err(|source| StudyError::Modes { source })?;
     if root {
         tracing::info!(
             "eigen-solve: {} modes in {:.2} s",
@@ -197,11 +197,16 @@ fn write_outputs(
     modes: &[RealMode],
     shapes: &[Vec<f64>],
     summary: ModelSummary,
-) -> anyhow::Result<()> {
-    let json = serde_json::to_vec_pretty(&ModesDocument {
-        modes,
-        model: summary,
-    })?;
+) -> Result<(), StudyError> {
+    let out = &args.output;
+    let json_path = out.join("modes.json");
+    let json = json_for(
+        &json_path,
+        &ModesDocument {
+            modes,
+            model: summary,
+        },
+    )?;
     let mut csv = String::from("index,frequency_hz,eigenvalue,residual,rigid_body\n");
     for m in modes {
         csv.push_str(&format!(
@@ -217,18 +222,15 @@ fn write_outputs(
             Field::vector(format!("mode_{:03}_{:.1}Hz", m.index, m.frequency_hz), &u)
         })
         .collect();
-    let out = &args.output;
-    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
+    create_dir(out)?;
     let parts = Field::part_ids(&model.mesh, 0);
     let mut writer = VtuWriter::new(&model.mesh).cell_field(&parts);
     for f in &fields {
         writer = writer.point_field(f);
     }
     writer.write(&out.join("modes.vtu"))?;
-    write_atomically(&out.join("modes.json"), &json)
-        .with_context(|| format!("writing {}", out.join("modes.json").display()))?;
-    write_atomically(&out.join("modes.csv"), csv.as_bytes())
-        .with_context(|| format!("writing {}", out.join("modes.csv").display()))?;
+    write_file(&json_path, &json)?;
+    write_file(&out.join("modes.csv"), csv.as_bytes())?;
     Ok(())
 }
 

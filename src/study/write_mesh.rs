@@ -2,6 +2,8 @@
 //! `.vtu` beside it, so a person can look at the model.
 
 use super::modes::load_model;
+use super::report::create_dir;
+use super::StudyError;
 use crate::fem::element;
 use crate::io::gmsh;
 use crate::io::vtu::{Field, VtuWriter};
@@ -11,7 +13,12 @@ use std::path::{Path, PathBuf};
 
 /// Writes `output` (.msh) and the same stem with .vtu; rank 0 only. Collective (loads the
 /// model on every rank so errors are reported alike).
-pub fn run(rt: &Runtime, mesh: Option<&Path>, preset: &str, output: &Path) -> anyhow::Result<()> {
+pub fn run(
+    rt: &Runtime,
+    mesh: Option<&Path>,
+    preset: &str,
+    output: &Path,
+) -> Result<(), StudyError> {
     let model = load_model(rt, mesh, preset, &[], &[])?;
     if rt.world().rank() != 0 {
         return Ok(());
@@ -23,7 +30,7 @@ pub fn run(rt: &Runtime, mesh: Option<&Path>, preset: &str, output: &Path) -> an
     };
     let vtu: PathBuf = msh.with_extension("vtu");
     if let Some(dir) = msh.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir)?;
+        create_dir(dir)?;
     }
     gmsh::write(&msh, &model.mesh)?;
     let parts = Field::part_ids(&model.mesh, 0);

@@ -18,7 +18,7 @@ use crate::reduce;
 use crate::study::bench::peak_rss_mib;
 use crate::study::config::Study;
 use crate::study::report::collective;
-use anyhow::Context;
+use crate::study::StudyError;
 use num_complex::Complex64;
 use std::time::Instant;
 
@@ -85,9 +85,12 @@ impl SweptSurface {
 impl<'rt> FullModel<'rt> {
     /// Builds and assembles the model of a study (collective; errors name the study file
     /// and key).
-    pub fn from_study(comm: Comm<'rt>, study: &Study, file: &str) -> anyhow::Result<Self> {
+    pub fn from_study(comm: Comm<'rt>, study: &Study, file: &str) -> Result<Self, StudyError> {
         let local = Model::from_spec(&study.model_spec())
-            .map_err(|e| anyhow::anyhow!("{file}: {e}"))
+            .map_err(|source| StudyError::StudyModel {
+                file: file.to_string(),
+                source,
+            })
             .and_then(|model| match &study.reduction {
                 None => Ok((model, None)),
                 Some(r) => reduce::reduce_interface(&model, &r.settings())
@@ -95,7 +98,10 @@ impl<'rt> FullModel<'rt> {
                         let spread = reduced_spread(&reduced);
                         (reduced.model.clone(), Some((spread, reduced)))
                     })
-                    .map_err(|e| anyhow::anyhow!("{file}: reduction: {e}")),
+                    .map_err(|source| StudyError::Reduction {
+                        file: file.to_string(),
+                        source,
+                    }),
             });
         let (model, reduction) = collective(comm, local)?;
         if comm.rank() == 0 {
@@ -181,7 +187,7 @@ impl<'rt> FullModel<'rt> {
         &mut self,
         comm: Comm<'rt>,
         mu: f64,
-    ) -> anyhow::Result<statics::StaticSolution> {
+    ) -> Result<statics::StaticSolution, StudyError> {
         let Some(previous) = self.previous.take() else {
             self.warn_held_only_by_friction(comm)?;
             let equilibrium = self
@@ -192,7 +198,7 @@ impl<'rt> FullModel<'rt> {
                     self.increments,
                     StaticOptions::default().max_cutbacks,
                 )
-                .with_context(|| format!("static equilibrium at mu = {mu}"))?;
+                .map_err(|source| StudyError::Static { mu, source })?;
             self.remember(mu, &equilibrium);
             return Ok(equilibrium);
         };
@@ -238,10 +244,11 @@ impl<'rt> FullModel<'rt> {
             }
         }
         self.previous = Some(previous);
-        Err(anyhow::Error::new(first_error).context(format!(
-            "static equilibrium at mu = {mu} (from the equilibrium at mu = {from} in one \
-             step, then in 2 to 16 friction steps: none converged)"
-        )))
+        Err(StudyError::StaticFrom {
+            mu,
+            from,
+            source: first_error,
+        })
     }
 
     /// One static solve at friction `mu` from `start` (or from rest). Collective.
@@ -330,18 +337,21 @@ impl<'rt> FullModel<'rt> {
         mu: f64,
         u: &[[f64; 3]],
         slip: &SlipHistory,
-        f: impl FnOnce(&Operators<'rt>) -> anyhow::Result<T>,
-    ) -> anyhow::Result<T> {
+        f: impl FnOnce(&Operators<'rt>) -> Result<T, StudyError>,
+    ) -> Result<T, StudyError> {
+        let tangent = |source| StudyError::Tangent { mu, source };
         self.model.set_swept_friction(mu);
         let Operators {
             dofs, stiffness, ..
         } = &mut self.operators;
-        statics::add_contact_tangent(comm, stiffness, dofs, &self.model.pairs, slip, u, 1.0)?;
+        statics::add_contact_tangent(comm, stiffness, dofs, &self.model.pairs, slip, u, 1.0)
+            .map_err(tangent)?;
         let result = f(&self.operators);
         let Operators {
             dofs, stiffness, ..
         } = &mut self.operators;
-        statics::add_contact_tangent(comm, stiffness, dofs, &self.model.pairs, slip, u, -1.0)?;
+        statics::add_contact_tangent(comm, stiffness, dofs, &self.model.pairs, slip, u, -1.0)
+            .map_err(tangent)?;
         result
     }
 }
@@ -373,7 +383,7 @@ impl<'rt> FrictionModel<'rt> for FullModel<'rt> {
         &self.model.mesh
     }
 
-    fn solve_point(&mut self, comm: Comm<'rt>, mu: f64) -> anyhow::Result<PointOutcome> {
+    fn solve_point(&mut self, comm: Comm<'rt>, mu: f64) -> Result<PointOutcome, StudyError> {
         let root = comm.rank() == 0;
         let t = Instant::now();
         let t_static = Instant::now();
@@ -413,12 +423,16 @@ impl<'rt> FrictionModel<'rt> for FullModel<'rt> {
         // industrial preset a separate tangent is 0.5 GB more at the memory peak, and K
         // comes back to within one rounding per entry, far below anything the next static
         // solve resolves.
-        statics::add_contact_tangent(comm, k, dofs, &self.model.pairs, slip, u, 1.0)?;
+        let tangent = |source| StudyError::Tangent { mu, source };
+        statics::add_contact_tangent(comm, k, dofs, &self.model.pairs, slip, u, 1.0)
+            .map_err(tangent)?;
         let result = collective(
             comm,
-            cea::solve(comm, k, m, self.damping.as_ref(), &self.cea),
+            cea::solve(comm, k, m, self.damping.as_ref(), &self.cea)
+                .map_err(|source| StudyError::CeaAt { mu, source }),
         );
-        statics::add_contact_tangent(comm, k, dofs, &self.model.pairs, slip, u, -1.0)?;
+        statics::add_contact_tangent(comm, k, dofs, &self.model.pairs, slip, u, -1.0)
+            .map_err(tangent)?;
         let result = result?;
         let cea_seconds = t_cea.elapsed().as_secs_f64();
         // Friction moves modes little from one point to the next: the next CEA sizes its

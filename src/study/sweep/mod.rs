@@ -17,7 +17,8 @@ pub use output::{ModelInfo, PairReport, SuperElementInfo, SuperElementPoint, Swe
 pub use superelement::{SuperElementModel, SuperElementSettings};
 
 use super::config::{ReductionSpec, Study};
-use super::report::{collective, write_atomically};
+use super::report::{collective, write_file};
+use super::StudyError;
 use crate::analysis::cea::ComplexMode;
 use crate::analysis::tracking::{self, Instability, SweepPoint, TrackingOptions};
 use crate::mesh::Mesh;
@@ -118,7 +119,7 @@ pub trait FrictionModel<'rt> {
     /// The mesh the fields of [`PointOutcome::fields`] live on.
     fn mesh(&self) -> &Mesh;
     /// The equilibrium and the CEA at friction `mu`, warm-started from the previous point.
-    fn solve_point(&mut self, comm: Comm<'rt>, mu: f64) -> anyhow::Result<PointOutcome>;
+    fn solve_point(&mut self, comm: Comm<'rt>, mu: f64) -> Result<PointOutcome, StudyError>;
 }
 
 /// What a sweep runs and where it writes.
@@ -184,7 +185,7 @@ pub fn study_from_args(
     comm: Comm<'_>,
     file: Option<&Path>,
     args: SweepArgs,
-) -> anyhow::Result<(Study, String)> {
+) -> Result<(Study, String), StudyError> {
     let (mut study, name) = match file {
         Some(path) => (
             collective(comm, Study::read(path))?,
@@ -220,10 +221,8 @@ pub fn study_from_args(
         match study.reduction.as_mut() {
             Some(spec) => args.superelements.apply(spec),
             None => {
-                return Err(super::report::Collective(anyhow::anyhow!(
-                    "--superelements and its settings need a reduced interface: give --contact-nodes-per-pad or --spacing, or a [reduction] in the study"
-                ))
-                .into())
+                // The same flags on every rank: every rank has this error.
+                return Err(StudyError::SuperElementsWithoutReduction.collective());
             }
         }
     }
@@ -238,12 +237,14 @@ pub fn run_command(
     file: Option<&Path>,
     args: SweepArgs,
     write_study: Option<&Path>,
-) -> anyhow::Result<()> {
+) -> Result<(), StudyError> {
     let comm = rt.world();
     let (study, name) = study_from_args(comm, file, args)?;
     if let Some(path) = write_study {
         if comm.rank() == 0 {
-            write_atomically(path, toml::to_string_pretty(&study)?.as_bytes())?;
+            let text = toml::to_string_pretty(&study)
+                .map_err(|source| StudyError::StudyToml { source })?;
+            write_file(path, text.as_bytes())?;
             println!("wrote {}", path.display());
         }
         return Ok(());
@@ -259,7 +260,7 @@ pub fn superelement_command(
     file: Option<&Path>,
     mut args: SweepArgs,
     output: &Path,
-) -> anyhow::Result<()> {
+) -> Result<(), StudyError> {
     let comm = rt.world();
     args.superelements.strategy = Some(args.superelements.strategy.unwrap_or(Strategy::Single));
     let (study, name) = study_from_args(comm, file, args)?;
@@ -268,7 +269,7 @@ pub fn superelement_command(
     let mu = model.settings().friction;
     let se = model.make(comm, mu)?;
     let written = if comm.rank() == 0 {
-        crate::reduce::superelement_file::write(output, se).map_err(anyhow::Error::from)
+        crate::reduce::superelement_file::write(output, se)
     } else {
         Ok(())
     };
@@ -291,7 +292,7 @@ pub fn superelement_command(
 }
 
 /// Runs the sweep of a study on its full model (collective); rank 0 prints and writes.
-pub fn run(rt: &Runtime, study: &Study, file: &str) -> anyhow::Result<SweepSummary> {
+pub fn run(rt: &Runtime, study: &Study, file: &str) -> Result<SweepSummary, StudyError> {
     let comm = rt.world();
     let plan = SweepPlan {
         friction: study.analysis.friction.clone(),
@@ -319,7 +320,7 @@ pub fn sweep<'rt>(
     comm: Comm<'rt>,
     model: &mut dyn FrictionModel<'rt>,
     plan: &SweepPlan,
-) -> anyhow::Result<SweepSummary> {
+) -> Result<SweepSummary, StudyError> {
     let root = comm.rank() == 0;
     let started = Instant::now();
     let info = model.info();

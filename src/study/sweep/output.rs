@@ -7,7 +7,8 @@ use crate::analysis::tracking::{self, Instability, SweepPoint, Track};
 use crate::contact::PairSummary;
 use crate::io::vtu::{Field, VtuWriter};
 use crate::mesh::Mesh;
-use crate::study::report::write_atomically;
+use crate::study::report::{create_dir, json_for, write_file};
+use crate::study::StudyError;
 use std::path::Path;
 
 /// One friction value's results, as written to sweep.json.
@@ -240,7 +241,7 @@ pub fn write_point(
     fields: Option<&PointFields>,
     report: &SweepPointReport,
     info: &ModelInfo,
-) -> anyhow::Result<()> {
+) -> Result<(), StudyError> {
     crate::study::cea::write_report(
         dir,
         &report.eigenvalues,
@@ -250,10 +251,12 @@ pub fn write_point(
     let Some(fields) = fields else {
         return Ok(());
     };
-    write_atomically(
-        &dir.join("contact.json"),
-        &serde_json::to_vec(&fields.contact)?,
-    )?;
+    let contact = dir.join("contact.json");
+    let json = serde_json::to_vec(&fields.contact).map_err(|source| StudyError::JsonFile {
+        path: contact.clone(),
+        source,
+    })?;
+    write_file(&contact, &json)?;
     let mut all = vec![
         Field::vector("static_displacement", &fields.static_displacement),
         Field::scalar("contact_pressure", fields.contact_pressure.clone()),
@@ -286,15 +289,16 @@ pub fn write_sweep(
     points: &[SweepPoint],
     tracks: &[Track],
     instabilities: &[Instability],
-) -> anyhow::Result<()> {
+) -> Result<(), StudyError> {
     let doc = SweepDocument {
         model: info,
         points: reports,
         tracks,
         instabilities,
     };
-    std::fs::create_dir_all(dir)?;
-    write_atomically(&dir.join("sweep.json"), &serde_json::to_vec_pretty(&doc)?)?;
+    create_dir(dir)?;
+    let json = dir.join("sweep.json");
+    write_file(&json, &json_for(&json, &doc)?)?;
     write_plots(dir, reports, points, tracks, instabilities)
 }
 
@@ -304,7 +308,7 @@ fn write_plots(
     points: &[SweepPoint],
     tracks: &[Track],
     instabilities: &[Instability],
-) -> anyhow::Result<()> {
+) -> Result<(), StudyError> {
     use crate::study::plot;
     let scatter: Vec<plot::MapPoint> = reports
         .iter()
@@ -317,13 +321,15 @@ fn write_plots(
             })
         })
         .collect();
+    let path = dir.join("stability_map.svg");
     plot::write_svg(
-        &dir.join("stability_map.svg"),
+        &path,
         &plot::stability_map(
             &scatter,
             "Stability map: every mode at every friction coefficient",
         ),
-    )?;
+    )
+    .map_err(|source| StudyError::write(&path, source))?;
     let unstable: std::collections::BTreeSet<usize> = instabilities
         .iter()
         .flat_map(|i| std::iter::once(i.track).chain(i.partner))
@@ -359,20 +365,24 @@ fn write_plots(
             ));
         }
     }
+    let path = dir.join("contact_states.svg");
     plot::write_svg(
-        &dir.join("contact_states.svg"),
+        &path,
         &plot::contact_states(
             &pairs,
             "Contact states: share of each pair's points open, sticking and slipping",
         ),
-    )?;
+    )
+    .map_err(|source| StudyError::write(&path, source))?;
+    let path = dir.join("friction_sweep.svg");
     plot::write_svg(
-        &dir.join("friction_sweep.svg"),
+        &path,
         &plot::sweep_tracks(
             &lines,
             "Friction sweep: frequency and real part of each tracked mode",
         ),
-    )?;
+    )
+    .map_err(|source| StudyError::write(&path, source))?;
     Ok(())
 }
 

@@ -23,11 +23,11 @@ use crate::petsc::{Comm, DenseMatrix, Vector};
 use crate::reduce::assembly::{
     Assembly, CubicContact, DenseCeaOptions, DenseCeaResult, ReducedStatic, StaticOptions,
 };
-use crate::reduce::{self, Decision, LocalBasis, Strategy, SuperElementError};
+use crate::reduce::{self, Decision, LocalBasis, Strategy};
 use crate::study::bench::peak_rss_mib;
 use crate::study::config::Study;
 use crate::study::report::collective;
-use anyhow::Context;
+use crate::study::StudyError;
 use faer::Mat;
 use num_complex::Complex64;
 use std::time::Instant;
@@ -98,16 +98,18 @@ struct Dense {
 impl<'rt> SuperElementModel<'rt> {
     /// The reduced-interface model of a study whose `[reduction]` asks for super-elements.
     /// Collective.
-    pub fn from_study(comm: Comm<'rt>, study: &Study, file: &str) -> anyhow::Result<Self> {
+    pub fn from_study(comm: Comm<'rt>, study: &Study, file: &str) -> Result<Self, StudyError> {
         let reduction = study
             .reduction
             .as_ref()
             .filter(|r| r.superelements.is_some())
-            .ok_or_else(|| anyhow::anyhow!("{file}: reduction.superelements is not set"))?;
+            .ok_or_else(|| StudyError::NoSuperElements {
+                file: file.to_string(),
+            })?;
         if study.analysis.damping.is_some() {
-            anyhow::bail!(
-                "{file}: analysis.damping: the super-element assembly's CEA is undamped; remove the damping or sweep the reduced-interface model (no reduction.superelements)"
-            );
+            return Err(StudyError::DampedSuperElements {
+                file: file.to_string(),
+            });
         }
         let base = FullModel::from_study(comm, study, file)?;
         let swept = base
@@ -131,7 +133,8 @@ impl<'rt> SuperElementModel<'rt> {
             max_frequency_hz,
             unstable_threshold: study.analysis.unstable_threshold,
         };
-        let study_text = toml::to_string(study).context("the study as TOML")?;
+        let study_text =
+            toml::to_string(study).map_err(|source| StudyError::StudyToml { source })?;
         Ok(SuperElementModel {
             mesh_hash: hash::mesh_hash(&base.model.mesh),
             study_hash: hash::text_hash(&study_text),
@@ -159,7 +162,7 @@ impl<'rt> SuperElementModel<'rt> {
         &mut self,
         comm: Comm<'rt>,
         mu: f64,
-    ) -> anyhow::Result<&reduce::superelement::SuperElement> {
+    ) -> Result<&reduce::superelement::SuperElement, StudyError> {
         let equilibrium = self.base.static_at(comm, mu)?;
         self.build(comm, &equilibrium, mu)?;
         Ok(&self.current.as_ref().expect("just built").se)
@@ -171,10 +174,12 @@ impl<'rt> SuperElementModel<'rt> {
         comm: Comm<'rt>,
         equilibrium: &StaticSolution,
         mu: f64,
-    ) -> anyhow::Result<()> {
-        let reduced = self.base.reduced.as_ref().ok_or_else(|| {
-            anyhow::anyhow!("a super-element needs a reduced interface ([reduction])")
-        })?;
+    ) -> Result<(), StudyError> {
+        let reduced = self
+            .base
+            .reduced
+            .as_ref()
+            .ok_or(StudyError::NoReducedInterface)?;
         let cb = reduce::build_with_basis(
             comm,
             reduced,
@@ -184,7 +189,7 @@ impl<'rt> SuperElementModel<'rt> {
             mu,
             self.settings.cutoff_hz,
         )
-        .map_err(|e: SuperElementError| anyhow::anyhow!("super-element at mu = {mu}: {e}"))?;
+        .map_err(|source| StudyError::SuperElement { mu, source })?;
         let basis = LocalBasis::from_dense(&cb.basis)?;
         let mut se = cb.superelement;
         se.header.mesh_hash = self.mesh_hash.clone();
@@ -205,13 +210,10 @@ impl<'rt> SuperElementModel<'rt> {
     /// Moves the current super-element to another equilibrium with the same kept-contact
     /// states: its reduced coordinates there and the swept pairs' forces (eq. 8 is matched to
     /// them). Collective.
-    fn move_to(&mut self, comm: Comm<'rt>, equilibrium: &StaticSolution) -> anyhow::Result<()> {
+    fn move_to(&mut self, comm: Comm<'rt>, equilibrium: &StaticSolution) -> Result<(), StudyError> {
         let operators = self.base.operators();
         let model = &self.base.model;
-        let current = self
-            .current
-            .as_mut()
-            .ok_or_else(|| anyhow::anyhow!("no super-element to move"))?;
+        let current = self.current.as_mut().ok_or(StudyError::NoSuperElement)?;
         let dofs = &operators.dofs;
         let mut u = vec![0.0; dofs.equations()];
         for (node, d) in equilibrium.displacement.iter().enumerate() {
@@ -264,7 +266,7 @@ impl<'rt> SuperElementModel<'rt> {
     }
 
     /// The strategy's super-element for friction `mu`. Collective.
-    fn choose(&mut self, comm: Comm<'rt>, mu: f64) -> anyhow::Result<Choice> {
+    fn choose(&mut self, comm: Comm<'rt>, mu: f64) -> Result<Choice, StudyError> {
         let mut choice = Choice {
             rebuilt: false,
             reason: String::new(),
@@ -285,10 +287,12 @@ impl<'rt> SuperElementModel<'rt> {
             Strategy::PerFriction | Strategy::Adaptive => mu,
         };
         let t = Instant::now();
-        let equilibrium = self
-            .base
-            .static_at(comm, at)
-            .context("the reduced-interface static a super-element is made at")?;
+        let equilibrium =
+            self.base
+                .static_at(comm, at)
+                .map_err(|e| StudyError::SuperElementStatic {
+                    source: Box::new(e),
+                })?;
         choice.reduced_static_seconds = t.elapsed().as_secs_f64();
         choice.static_factorizations = equilibrium
             .increments
@@ -329,17 +333,14 @@ impl<'rt> SuperElementModel<'rt> {
     }
 
     /// The dense static and CEA on rank 0, broadcast. Collective.
-    fn dense(&self, comm: Comm<'rt>, mu: f64, anchored: bool) -> anyhow::Result<Dense> {
-        let current = self
-            .current
-            .as_ref()
-            .ok_or_else(|| anyhow::anyhow!("no super-element"))?;
+    fn dense(&self, comm: Comm<'rt>, mu: f64, anchored: bool) -> Result<Dense, StudyError> {
+        let current = self.current.as_ref().ok_or(StudyError::NoSuperElement)?;
         let se = &current.se;
         let n = se.header.size;
         let mut payload = Vec::new();
         let mut root = None;
         let local = if comm.rank() == 0 {
-            let run = || -> anyhow::Result<_> {
+            let run = || -> Result<_, reduce::assembly::AssemblyError> {
                 let assembly = Assembly::new(se, &self.settings.contact)?;
                 let start = match (&self.previous_q, anchored) {
                     (Some(q), false) => q.as_slice(),
@@ -385,7 +386,7 @@ impl<'rt> SuperElementModel<'rt> {
                 }
                 Err(e) => {
                     payload.push(0.0);
-                    Err(e.context(format!("super-element assembly at mu = {mu}")))
+                    Err(StudyError::DenseAssembly { mu, source: e })
                 }
             }
         } else {
@@ -396,9 +397,7 @@ impl<'rt> SuperElementModel<'rt> {
             if payload.first() == Some(&1.0) {
                 Ok(())
             } else {
-                Err(anyhow::anyhow!(
-                    "the super-element assembly failed on rank 0"
-                ))
+                Err(StudyError::FailedOnRoot("super-element assembly"))
             }
         });
         collective(comm, local)?;
@@ -449,7 +448,7 @@ impl<'rt> FrictionModel<'rt> for SuperElementModel<'rt> {
         self.base.mesh()
     }
 
-    fn solve_point(&mut self, comm: Comm<'rt>, mu: f64) -> anyhow::Result<PointOutcome> {
+    fn solve_point(&mut self, comm: Comm<'rt>, mu: f64) -> Result<PointOutcome, StudyError> {
         let root = comm.rank() == 0;
         let t = Instant::now();
         let choice = self.choose(comm, mu)?;
