@@ -189,7 +189,8 @@ impl<'rt> FullModel<'rt> {
         mu: f64,
     ) -> Result<statics::StaticSolution, StudyError> {
         let Some(previous) = self.previous.take() else {
-            self.warn_held_only_by_friction(comm)?;
+            self.warn_held_only_by_friction(comm)
+                .map_err(|source| StudyError::Static { mu, source })?;
             let equilibrium = self
                 .solve_static(
                     comm,
