@@ -322,7 +322,7 @@ fn write_plots(
         &plot::stability_map(
             &scatter,
             "Stability map: every mode at every friction coefficient",
-        ),
+        )?,
     )?;
     let unstable: std::collections::BTreeSet<usize> = instabilities
         .iter()
@@ -364,14 +364,14 @@ fn write_plots(
         &plot::contact_states(
             &pairs,
             "Contact states: share of each pair's points open, sticking and slipping",
-        ),
+        )?,
     )?;
     plot::write_svg(
         &dir.join("friction_sweep.svg"),
         &plot::sweep_tracks(
             &lines,
             "Friction sweep: frequency and real part of each tracked mode",
-        ),
+        )?,
     )?;
     Ok(())
 }
