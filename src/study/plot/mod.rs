@@ -64,3 +64,26 @@ pub fn write_svg(path: &Path, svg: &str) -> std::io::Result<()> {
 
 #[cfg(test)]
 mod svg_check;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn write_svg_writes_the_figure_whole() {
+        let dir = std::env::temp_dir().join(format!("squeal-plot-test-{}", std::process::id()));
+        let path = dir.join("nested").join("map.svg");
+        let point = MapPoint {
+            mu: 0.3,
+            frequency_hz: 2000.0,
+            real_part: 5.0,
+            unstable: true,
+        };
+        let svg = stability_map(&[point], "written").unwrap();
+        write_svg(&path, &svg).unwrap();
+        assert_eq!(std::fs::read_to_string(&path).unwrap(), svg);
+        let leftovers = std::fs::read_dir(path.parent().unwrap()).unwrap().count();
+        assert_eq!(leftovers, 1, "no temporary file left behind");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}

@@ -147,7 +147,10 @@ pub fn tick_label(v: f64, range: (f64, f64)) -> String {
         let decimals = (-(span / 10.0).log10().floor()).clamp(0.0, 12.0) as usize;
         trim_zeros(&format!("{v:.decimals$}")).to_string()
     };
-    text.replace('-', "\u{2212}")
+    match text.strip_prefix('-') {
+        Some(magnitude) => format!("\u{2212}{magnitude}"),
+        None => text,
+    }
 }
 
 fn trim_zeros(s: &str) -> &str {
@@ -420,4 +423,44 @@ pub fn draw_colour_bar(area: &Area, label: &str, range: (f64, f64)) -> Drawn {
         plot.draw(&Rectangle::new([(0.0, a), (1.0, b)], colour.filled()))?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tick_labels_without_round_off_noise() {
+        let labels = |range: (f64, f64), values: &[f64]| -> Vec<String> {
+            values.iter().map(|v| tick_label(*v, range)).collect()
+        };
+        // 0.1 + 0.2 = 0.30000000000000004 must not show.
+        assert_eq!(
+            labels((0.1, 0.9), &[0.1 + 0.2, 0.5, 0.0]),
+            ["0.3", "0.5", "0"]
+        );
+        assert_eq!(labels((0.30, 0.35), &[0.325, 0.35]), ["0.325", "0.35"]);
+        assert_eq!(labels((-37.2, 12.5), &[-30.0, 10.0]), ["−30", "10"]);
+        assert_eq!(labels((0.0, 20_000.0), &[15_000.0]), ["15000"]);
+        assert_eq!(labels((0.0, 3e6), &[1.5e6, 3e6]), ["1.5e6", "3e6"]);
+        assert_eq!(labels((-4e-4, 4e-4), &[-2e-4, 0.0]), ["−2e-4", "0"]);
+    }
+
+    #[test]
+    fn axis_ranges_hold_the_data_and_are_never_empty() {
+        assert_eq!(axis_range(None, true), (0.0, 1.0));
+        assert_eq!(axis_range(Some((0.0, 0.0)), false), (-1.0, 1.0));
+        let (lo, hi) = axis_range(Some((2500.0, 2500.0)), false);
+        assert!((lo - 2250.0).abs() < 1e-9 && (hi - 2750.0).abs() < 1e-9);
+        let (lo, hi) = axis_range(Some((-1e300, 1e300)), true);
+        assert!(lo.is_finite() && hi.is_finite() && lo < -1e300 && hi > 1e300);
+        let (lo, hi) = axis_range(Some((5.0, 10.0)), true);
+        assert!(lo < 0.0 && hi > 10.0);
+        assert_eq!(
+            extent([f64::NAN, 3.0, f64::INFINITY, -2.0, 1e301]),
+            Some((-2.0, 3.0))
+        );
+        assert_eq!(clean("a\u{1}b\tc"), "a b c");
+        assert_eq!(truncate("abcdef", 4), "abc…");
+    }
 }
