@@ -800,16 +800,12 @@ impl Comparison {
                 .iter()
                 .filter(|i| i.reference_index == index)
                 .collect();
-            let mut lines = Vec::new();
-            for (n, e) in entries.iter().enumerate() {
-                // The reference's curves once, then each model's.
-                lines.extend(
-                    e.curves
-                        .iter()
-                        .filter(|l| n == 0 || !l.0.starts_with("reference"))
-                        .cloned(),
-                );
-            }
+            // The reference's curves once (flag false), then each model's (flag true).
+            let reference: Vec<_> = entries[0].curves.iter().filter(|l| !l.2).cloned().collect();
+            let models: Vec<_> = entries
+                .iter()
+                .flat_map(|e| e.curves.iter().filter(|l| l.2).cloned())
+                .collect();
             let title = format!(
                 "Instability at {:.0} Hz: every model against the reference",
                 entries[0].reference_frequency_hz
@@ -818,7 +814,7 @@ impl Comparison {
                 "instability_{:.0}Hz.svg",
                 entries[0].reference_frequency_hz
             ));
-            crate::study::plot::sweep_tracks(&lines, &title)
+            crate::study::plot::comparison(&reference, &models, &title)
                 .map_err(std::io::Error::from)
                 .and_then(|svg| crate::study::plot::write_svg(&file, &svg))
                 .map_err(|source| CompareError::Write {

@@ -2,10 +2,11 @@
 //! the files open in any browser, convert with `rsvg-convert -o out.png in.svg`, and diff).
 //!
 //! One figure per file: [`stability_map`], [`sweep_tracks`], [`contact_states`] (a sweep's
-//! plots) and [`contact_map`] (a comparison's). Each returns the SVG document; [`write_svg`]
+//! plots), [`comparison`] and [`contact_map`] (a comparison's). Each returns the SVG document; [`write_svg`]
 //! writes it whole or not at all. Points that are NaN, infinite or beyond +-1e300 are
 //! skipped (and break lines), a figure without data says "no data".
 
+mod comparison;
 mod contact_map;
 mod contact_states;
 mod stability_map;
@@ -14,6 +15,7 @@ mod sweep_tracks;
 
 use std::path::Path;
 
+pub use comparison::comparison;
 pub use contact_map::{contact_map, ContactMapPanel, ContactMapPoint};
 pub use contact_states::contact_states;
 pub use stability_map::stability_map;

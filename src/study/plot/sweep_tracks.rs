@@ -21,52 +21,80 @@ const STABLE_LOOK: Look = Look {
     outline: None,
 };
 
-/// A track as drawn: its points in mu order, its frequency and real-part curves.
-struct Line<'t> {
+/// A track as drawn: its frequency and real-part curves in mu order, its style, whether
+/// the legend names it.
+pub(super) struct Line<'t> {
     name: &'t str,
     frequency: Vec<(f64, f64)>,
     real_part: Vec<(f64, f64)>,
     stroke: (RGBColor, u32),
     look: Look,
-    unstable: bool,
+    legend: bool,
+}
+
+impl<'t> Line<'t> {
+    pub(super) fn new(
+        (name, points, _): &'t Track,
+        stroke: (RGBColor, u32),
+        look: Look,
+        legend: bool,
+    ) -> Self {
+        let mut points = points.clone();
+        points.sort_by(|a, b| a.0.total_cmp(&b.0));
+        Line {
+            name,
+            frequency: points.iter().map(|p| (p.0, p.1)).collect(),
+            real_part: points.iter().map(|p| (p.0, p.2)).collect(),
+            stroke,
+            look,
+            legend,
+        }
+    }
+}
+
+/// A bold palette line with palette markers, the `k`th of its figure (black excluded if
+/// `black` is taken).
+pub(super) fn bold(k: usize, black: bool) -> ((RGBColor, u32), Look) {
+    let colours = if black {
+        &PALETTE[..PALETTE.len() - 1]
+    } else {
+        &PALETTE[..]
+    };
+    let colour = colours[k % colours.len()];
+    let look = Look {
+        marker: MARKERS[k % MARKERS.len()],
+        size: 4,
+        fill: colour,
+        outline: None,
+    };
+    ((colour, 2), look)
 }
 
 /// The tracks' SVG: `(name, [(mu, frequency Hz, real part 1/s)], unstable)` each, points in
 /// any order (lines join them in mu order).
 pub fn sweep_tracks(tracks: &[Track], title: &str) -> Result<String, PlotError> {
     // Stable tracks first, so the unstable ones are drawn over them.
-    let mut unstable_count = 0;
-    let lines: Vec<Line> = tracks
-        .iter()
-        .filter(|t| !t.2)
-        .chain(tracks.iter().filter(|t| t.2))
-        .map(|(name, points, unstable)| {
-            let mut points = points.clone();
-            points.sort_by(|a, b| a.0.total_cmp(&b.0));
-            let (stroke, look) = if *unstable {
-                let k = unstable_count;
-                unstable_count += 1;
-                let colour = PALETTE[k % PALETTE.len()];
-                let look = Look {
-                    marker: MARKERS[k % MARKERS.len()],
-                    size: 4,
-                    fill: colour,
-                    outline: None,
-                };
-                ((colour, 2), look)
-            } else {
-                (STABLE_LINE, STABLE_LOOK)
-            };
-            Line {
-                name,
-                frequency: points.iter().map(|p| (p.0, p.1)).collect(),
-                real_part: points.iter().map(|p| (p.0, p.2)).collect(),
-                stroke,
-                look,
-                unstable: *unstable,
-            }
-        })
+    let stable = tracks.iter().filter(|t| !t.2);
+    let mut lines: Vec<Line> = stable
+        .clone()
+        .map(|t| Line::new(t, STABLE_LINE, STABLE_LOOK, false))
         .collect();
+    for (k, t) in tracks.iter().filter(|t| t.2).enumerate() {
+        let (stroke, look) = bold(k, false);
+        lines.push(Line::new(t, stroke, look, true));
+    }
+    // One legend entry for all stable tracks.
+    let stable = (stable.count() > 0).then(|| Entry {
+        name: "stable modes".into(),
+        line: Some(STABLE_LINE),
+        look: Some(STABLE_LOOK),
+    });
+    draw(&lines, stable, title)
+}
+
+/// Lines in the order given (later over earlier), the legend naming those that ask for it,
+/// then `last`.
+pub(super) fn draw(lines: &[Line], last: Option<Entry>, title: &str) -> Result<String, PlotError> {
     let top: Vec<&[(f64, f64)]> = lines.iter().map(|l| &l.frequency[..]).collect();
     let bottom: Vec<&[(f64, f64)]> = lines.iter().map(|l| &l.real_part[..]).collect();
     let drawable = |panel: &[&[(f64, f64)]]| -> Vec<(f64, f64)> {
@@ -113,27 +141,21 @@ pub fn sweep_tracks(tracks: &[Track], title: &str) -> Result<String, PlotError> 
                     zero_line: bottom,
                 },
             )?;
-            for (series, line) in panel.iter().zip(&lines) {
+            for (series, line) in panel.iter().zip(lines) {
                 style::draw_line(&plot, series, line.stroke.0, line.stroke.1)?;
                 style::draw_markers(&plot, series, line.look)?;
             }
         }
-        let mut entries: Vec<Entry> = lines
+        let entries: Vec<Entry> = lines
             .iter()
-            .filter(|l| l.unstable)
+            .filter(|l| l.legend)
             .map(|l| Entry {
                 name: l.name.to_string(),
                 line: Some(l.stroke),
                 look: Some(l.look),
             })
+            .chain(last)
             .collect();
-        if lines.iter().any(|l| !l.unstable) {
-            entries.push(Entry {
-                name: "stable modes".into(),
-                line: Some(STABLE_LINE),
-                look: Some(STABLE_LOOK),
-            });
-        }
         style::draw_legend(&side.margin(12, 12, 4, 0), &entries)
     })
 }
