@@ -1,7 +1,7 @@
 //! A comparison's instability figure: the two modes of one instability in the reference
 //! and in every other model that has it, frequency (top) and real part (bottom) against
-//! the friction coefficient. The reference is drawn in black, each model in a palette
-//! colour, every curve named in the legend.
+//! the friction coefficient. The reference is drawn wide in black, each model over it in a
+//! palette colour, every curve named in the legend.
 
 use plotters::prelude::*;
 
@@ -9,11 +9,12 @@ use super::style::{Look, Marker};
 use super::sweep_tracks::{bold, draw, Line};
 use super::{PlotError, Track};
 
+/// Wide, so that a model on it leaves a black rim.
 const REFERENCE: ((RGBColor, u32), Look) = (
-    (BLACK, 2),
+    (BLACK, 5),
     Look {
         marker: Marker::Circle,
-        size: 3,
+        size: 6,
         fill: BLACK,
         outline: None,
     },
@@ -67,7 +68,7 @@ mod tests {
         // Black lines: the reference's two curves in both panels, and two legend swatches;
         // no model in black.
         let black = tags(&svg, "polyline")
-            .filter(|t| t.contains("stroke=\"#000000\"") && t.contains("stroke-width=\"2\""));
+            .filter(|t| t.contains("stroke=\"#000000\"") && t.contains("stroke-width=\"5\""));
         assert_eq!(black.count(), 2 * 2 + 2);
         let blue = tags(&svg, "polyline").filter(|t| t.contains("stroke=\"#0072B2\""));
         assert_eq!(blue.count(), 2 + 1);
