@@ -273,12 +273,18 @@ fn bad_studies_name_the_file_and_the_key_and_write_nothing() {
     assert!(!out.join("sweep.json").exists());
 }
 
-/// The modes the stability map outlines as unstable (the black group of markers).
+/// The modes the stability map outlines as unstable: its black-ringed circles, less the
+/// legend's sample.
 fn unstable_markers(svg: &str) -> usize {
-    svg.split("stroke=\"#000000\" stroke-width=\"1.3\">")
-        .nth(1)
-        .and_then(|g| g.split("</g>").next())
-        .map_or(0, |g| g.matches("class=\"mk\"").count())
+    svg.split("<circle")
+        .skip(1)
+        .filter(|c| {
+            c.split("/>")
+                .next()
+                .is_some_and(|c| c.contains("fill=\"none\" stroke=\"#000000\" stroke-width=\"2\""))
+        })
+        .count()
+        .saturating_sub(1)
 }
 
 /// "Unstable" is decided once, by the CEA with the study's threshold: with a threshold

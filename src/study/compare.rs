@@ -710,7 +710,7 @@ impl Comparison {
     /// each pad's contact points of the reference (closed green, open blue) with the model's
     /// contact points over them (closed: filled squares, open: triangles).
     fn write_contact_maps(&self, dir: &Path) -> Result<(), CompareError> {
-        use crate::study::plot::{Figure, Marker, Panel, Series, Style};
+        use crate::study::plot::{ContactMapPanel, ContactMapPoint};
         let reference = Path::new(&self.models[0].folder);
         for (k, model) in self.models.iter().enumerate().skip(1) {
             let Some(mu) = self
@@ -730,75 +730,42 @@ impl Comparison {
             };
             let mut pairs: Vec<String> = r.points.iter().map(|p| p.pair.clone()).collect();
             pairs.dedup();
-            let mut figure = Figure::new(
-                format!(
-                    "Contact state at mu = {mu:.2}: reference and model {k} ({})",
-                    model.source
-                ),
-                900.0,
-                420.0 * pairs.len() as f64,
+            let title = format!(
+                "Contact state at mu = {mu:.2}: reference and model {k} ({})",
+                model.source
             );
+            let mut panels = Vec::new();
             for pair in &pairs {
                 let ref_points: Vec<_> = r.points.iter().filter(|p| &p.pair == pair).collect();
                 let positions: Vec<[f64; 3]> = ref_points.iter().map(|p| p.position).collect();
                 let (a, b) = plane_axes(&positions);
                 let axis = ["x", "y", "z"];
-                let mut panel = Panel::new(pair, axis[a], axis[b]);
-                let series = |name: &str, pts: Vec<(f64, f64)>, color: &str, marker, highlight| {
-                    let mut s = Series::new(name, pts, Style::Markers);
-                    s.color = Some(color.to_string());
-                    s.marker = Some(marker);
-                    s.highlight = highlight;
-                    s
-                };
-                let at = |p: [f64; 3]| (p[a], p[b]);
-                let pick = |points: &[&crate::study::sweep::ContactMapPoint], closed: bool| {
+                let map = |points: &[&crate::study::sweep::ContactMapPoint]| {
                     points
                         .iter()
-                        .filter(|p| p.closed == closed)
-                        .map(|p| at(p.position))
-                        .collect::<Vec<_>>()
+                        .map(|p| ContactMapPoint {
+                            at: (p.position[a], p.position[b]),
+                            closed: p.closed,
+                        })
+                        .collect()
                 };
                 let model_points: Vec<_> = o.points.iter().filter(|p| &p.pair == pair).collect();
-                panel.series = vec![
-                    series(
-                        "reference closed",
-                        pick(&ref_points, true),
-                        "#2CA02C",
-                        Marker::Circle,
-                        false,
-                    ),
-                    series(
-                        "reference open",
-                        pick(&ref_points, false),
-                        "#1F77B4",
-                        Marker::Circle,
-                        false,
-                    ),
-                    series(
-                        "model closed",
-                        pick(&model_points, true),
-                        "#000000",
-                        Marker::Square,
-                        true,
-                    ),
-                    series(
-                        "model open",
-                        pick(&model_points, false),
-                        "#FFFFFF",
-                        Marker::TriangleUp,
-                        true,
-                    ),
-                ];
-                figure.panels.push(panel);
+                panels.push(ContactMapPanel {
+                    pair: pair.clone(),
+                    x_label: axis[a].to_string(),
+                    y_label: axis[b].to_string(),
+                    reference: map(&ref_points),
+                    model: map(&model_points),
+                });
             }
             let file = dir.join(format!("contact_state_model{k}_mu{mu:.2}.svg"));
-            crate::study::plot::write_svg(&file, &figure).map_err(|source| {
-                CompareError::Write {
+            crate::study::plot::contact_map(&panels, &title)
+                .map_err(std::io::Error::from)
+                .and_then(|svg| crate::study::plot::write_svg(&file, &svg))
+                .map_err(|source| CompareError::Write {
                     file: file.clone(),
                     source,
-                }
-            })?;
+                })?;
         }
         Ok(())
     }
@@ -833,16 +800,12 @@ impl Comparison {
                 .iter()
                 .filter(|i| i.reference_index == index)
                 .collect();
-            let mut lines = Vec::new();
-            for (n, e) in entries.iter().enumerate() {
-                // The reference's curves once, then each model's.
-                lines.extend(
-                    e.curves
-                        .iter()
-                        .filter(|l| n == 0 || !l.0.starts_with("reference"))
-                        .cloned(),
-                );
-            }
+            // The reference's curves once (flag false), then each model's (flag true).
+            let reference: Vec<_> = entries[0].curves.iter().filter(|l| !l.2).cloned().collect();
+            let models: Vec<_> = entries
+                .iter()
+                .flat_map(|e| e.curves.iter().filter(|l| l.2).cloned())
+                .collect();
             let title = format!(
                 "Instability at {:.0} Hz: every model against the reference",
                 entries[0].reference_frequency_hz
@@ -851,10 +814,12 @@ impl Comparison {
                 "instability_{:.0}Hz.svg",
                 entries[0].reference_frequency_hz
             ));
-            crate::study::plot::write_svg(&file, &crate::study::plot::sweep_tracks(&lines, &title))
-                .map_err(|e| CompareError::Write {
+            crate::study::plot::comparison(&reference, &models, &title)
+                .map_err(std::io::Error::from)
+                .and_then(|svg| crate::study::plot::write_svg(&file, &svg))
+                .map_err(|source| CompareError::Write {
                     file: file.clone(),
-                    source: std::io::Error::other(e.to_string()),
+                    source,
                 })?;
         }
         Ok(())

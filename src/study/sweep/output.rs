@@ -322,14 +322,13 @@ fn write_plots(
         })
         .collect();
     let path = dir.join("stability_map.svg");
-    plot::write_svg(
+    write_figure(
         &path,
-        &plot::stability_map(
+        plot::stability_map(
             &scatter,
             "Stability map: every mode at every friction coefficient",
         ),
-    )
-    .map_err(|source| StudyError::write(&path, source))?;
+    )?;
     let unstable: std::collections::BTreeSet<usize> = instabilities
         .iter()
         .flat_map(|i| std::iter::once(i.track).chain(i.partner))
@@ -366,24 +365,30 @@ fn write_plots(
         }
     }
     let path = dir.join("contact_states.svg");
-    plot::write_svg(
+    write_figure(
         &path,
-        &plot::contact_states(
+        plot::contact_states(
             &pairs,
             "Contact states: share of each pair's points open, sticking and slipping",
         ),
-    )
-    .map_err(|source| StudyError::write(&path, source))?;
-    let path = dir.join("friction_sweep.svg");
-    plot::write_svg(
-        &path,
-        &plot::sweep_tracks(
+    )?;
+    write_figure(
+        &dir.join("friction_sweep.svg"),
+        plot::sweep_tracks(
             &lines,
             "Friction sweep: frequency and real part of each tracked mode",
         ),
-    )
-    .map_err(|source| StudyError::write(&path, source))?;
+    )?;
     Ok(())
+}
+
+/// Writes a drawn figure whole, or says which file could not be drawn or written.
+fn write_figure(
+    path: &Path,
+    figure: Result<String, crate::study::plot::PlotError>,
+) -> Result<(), StudyError> {
+    let svg = figure.map_err(|e| StudyError::write(path, e.into()))?;
+    crate::study::plot::write_svg(path, &svg).map_err(|source| StudyError::write(path, source))
 }
 
 /// The table printed at the end of a sweep.

@@ -1,0 +1,298 @@
+//! The sweep tracks: frequency (top) and real part (bottom) of each tracked mode against
+//! the friction coefficient, one line per track, the two panels sharing the mu axis.
+//! Tracks in an instability are drawn bold in palette colours and named in the legend;
+//! the stable ones are thin grey lines underneath, one legend entry for all.
+
+use plotters::prelude::*;
+
+use super::style::{self, Entry, Look, Marker, MARKERS, MUTED, PALETTE};
+use super::{PlotError, Track};
+
+const WIDTH: u32 = 900;
+const HEIGHT: u32 = 680;
+/// The legend, right of the panels.
+const SIDE: u32 = 200;
+
+const STABLE_LINE: (RGBColor, u32) = (MUTED, 1);
+const STABLE_LOOK: Look = Look {
+    marker: Marker::Circle,
+    size: 2,
+    fill: MUTED,
+    outline: None,
+};
+
+/// A track as drawn: its frequency and real-part curves in mu order, its style, whether
+/// the legend names it.
+pub(super) struct Line<'t> {
+    name: &'t str,
+    frequency: Vec<(f64, f64)>,
+    real_part: Vec<(f64, f64)>,
+    stroke: (RGBColor, u32),
+    look: Look,
+    legend: bool,
+}
+
+impl<'t> Line<'t> {
+    pub(super) fn new(
+        (name, points, _): &'t Track,
+        stroke: (RGBColor, u32),
+        look: Look,
+        legend: bool,
+    ) -> Self {
+        let mut points = points.clone();
+        points.sort_by(|a, b| a.0.total_cmp(&b.0));
+        Line {
+            name,
+            frequency: points.iter().map(|p| (p.0, p.1)).collect(),
+            real_part: points.iter().map(|p| (p.0, p.2)).collect(),
+            stroke,
+            look,
+            legend,
+        }
+    }
+}
+
+/// A bold palette line with palette markers, the `k`th of its figure (black excluded if
+/// `black` is taken).
+pub(super) fn bold(k: usize, black: bool) -> ((RGBColor, u32), Look) {
+    let colours = if black {
+        &PALETTE[..PALETTE.len() - 1]
+    } else {
+        &PALETTE[..]
+    };
+    let colour = colours[k % colours.len()];
+    let look = Look {
+        marker: MARKERS[k % MARKERS.len()],
+        size: 4,
+        fill: colour,
+        outline: None,
+    };
+    ((colour, 2), look)
+}
+
+/// The tracks' SVG: `(name, [(mu, frequency Hz, real part 1/s)], unstable)` each, points in
+/// any order (lines join them in mu order).
+pub fn sweep_tracks(tracks: &[Track], title: &str) -> Result<String, PlotError> {
+    // Stable tracks first, so the unstable ones are drawn over them.
+    let stable = tracks.iter().filter(|t| !t.2);
+    let mut lines: Vec<Line> = stable
+        .clone()
+        .map(|t| Line::new(t, STABLE_LINE, STABLE_LOOK, false))
+        .collect();
+    for (k, t) in tracks.iter().filter(|t| t.2).enumerate() {
+        let (stroke, look) = bold(k, false);
+        lines.push(Line::new(t, stroke, look, true));
+    }
+    // One legend entry for all stable tracks.
+    let stable = (stable.count() > 0).then(|| Entry {
+        name: "stable modes".into(),
+        line: Some(STABLE_LINE),
+        look: Some(STABLE_LOOK),
+    });
+    draw(&lines, stable, title)
+}
+
+/// Lines in the order given (later over earlier), the legend naming those that ask for it,
+/// then `last`.
+pub(super) fn draw(lines: &[Line], last: Option<Entry>, title: &str) -> Result<String, PlotError> {
+    let top: Vec<&[(f64, f64)]> = lines.iter().map(|l| &l.frequency[..]).collect();
+    let bottom: Vec<&[(f64, f64)]> = lines.iter().map(|l| &l.real_part[..]).collect();
+    let drawable = |panel: &[&[(f64, f64)]]| -> Vec<(f64, f64)> {
+        panel
+            .iter()
+            .copied()
+            .flatten()
+            .copied()
+            .filter(style::point_plottable)
+            .collect()
+    };
+    let (top_points, bottom_points) = (drawable(&top), drawable(&bottom));
+    style::render(WIDTH, HEIGHT, title, |body| {
+        if top_points.is_empty() && bottom_points.is_empty() {
+            return style::no_data(body, "no data: no tracked mode");
+        }
+        let (main, side) = body.split_horizontally(WIDTH - SIDE);
+        let (_, height) = main.dim_in_pixel();
+        let (upper, lower) = main.split_vertically((height - 40) / 2);
+        let mu = style::axis_range(
+            style::union(
+                style::extent(top_points.iter().map(|p| p.0)),
+                style::extent(bottom_points.iter().map(|p| p.0)),
+            ),
+            false,
+        );
+        for (area, panel, points, bottom) in [
+            (&upper, &top, &top_points, false),
+            (&lower, &bottom, &bottom_points, true),
+        ] {
+            let plot = style::panel(
+                area,
+                &style::Axes {
+                    caption: "",
+                    x_label: style::FRICTION_LABEL,
+                    y_label: if bottom {
+                        style::REAL_PART_LABEL
+                    } else {
+                        style::FREQUENCY_LABEL
+                    },
+                    x: mu,
+                    y: style::axis_range(style::extent(points.iter().map(|p| p.1)), bottom),
+                    x_ticks: bottom,
+                    zero_line: bottom,
+                },
+            )?;
+            for (series, line) in panel.iter().zip(lines) {
+                style::draw_line(&plot, series, line.stroke.0, line.stroke.1)?;
+                style::draw_markers(&plot, series, line.look)?;
+            }
+        }
+        let entries: Vec<Entry> = lines
+            .iter()
+            .filter(|l| l.legend)
+            .map(|l| Entry {
+                name: l.name.to_string(),
+                line: Some(l.stroke),
+                look: Some(l.look),
+            })
+            .chain(last)
+            .collect();
+        style::draw_legend(&side.margin(12, 12, 4, 0), &entries)
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::svg_check::{check_xml, circles, tags, texts, Lcg};
+    use super::*;
+
+    /// Markers: circles and polygons.
+    fn markers(svg: &str) -> usize {
+        circles(svg).count() + tags(svg, "polygon").count()
+    }
+
+    /// The polylines drawn in `colour` (#RRGGBB).
+    fn lines_in<'a>(svg: &'a str, colour: &'a str) -> Vec<&'a str> {
+        let stroke = format!("stroke=\"{colour}\"");
+        tags(svg, "polyline")
+            .filter(|t| t.contains(&stroke))
+            .collect()
+    }
+
+    fn xs(polyline: &str) -> Vec<f64> {
+        let points = polyline.split("points=\"").nth(1).unwrap();
+        let points = points.split('"').next().unwrap();
+        points
+            .split_whitespace()
+            .map(|p| p.split(',').next().unwrap().parse().unwrap())
+            .collect()
+    }
+
+    #[test]
+    fn every_point_twice_lines_left_to_right_one_mu_axis() {
+        let mut rng = Lcg(5);
+        let mut tracks: Vec<Track> = (0..12)
+            .map(|k| {
+                // Points in reverse mu order: lines must still run left to right.
+                let points = (1..=9)
+                    .rev()
+                    .map(|j| {
+                        (
+                            0.1 * j as f64,
+                            800.0 * (k + 1) as f64 + 30.0 * rng.next(),
+                            -5.0 + 10.0 * rng.next(),
+                        )
+                    })
+                    .collect();
+                (format!("mode {k} <\"{k}\">"), points, k % 4 == 1)
+            })
+            .collect();
+        tracks[2].1[4].1 = f64::NAN; // a failed solve: a gap in the frequency line only
+        let svg = sweep_tracks(&tracks, "tracks").unwrap();
+        check_xml(&svg).unwrap();
+        // Legend: the 3 unstable tracks and one entry for all stable ones.
+        let legend = 4;
+        assert_eq!(markers(&svg), 12 * 9 * 2 - 1 + legend);
+        let text = texts(&svg);
+        assert!(text.contains(&"stable modes"));
+        assert!(text.contains(&"mode 1 &lt;&quot;1&quot;&gt;"));
+        assert!(
+            !text.iter().any(|t| t.starts_with("mode 2")),
+            "stable: no entry"
+        );
+        for label in ["Frequency (Hz)", "Real part (1/s)", "tracks"] {
+            assert_eq!(text.iter().filter(|t| **t == label).count(), 1, "{label}");
+        }
+        // One mu axis: labelled once, under the bottom panel.
+        assert_eq!(
+            text.iter()
+                .filter(|t| **t == "Friction coefficient μ")
+                .count(),
+            1
+        );
+        assert_eq!(text.iter().filter(|t| **t == "0.4").count(), 1);
+        // Stable: 9 tracks in 2 panels, the gap, the legend's swatch. Unstable: the first
+        // palette colour is track 1's, in 2 panels and the legend.
+        let grey = lines_in(&svg, "#9A9A9A");
+        assert_eq!(grey.len(), 9 * 2 + 1 + 1);
+        let blue = lines_in(&svg, "#0072B2");
+        assert_eq!(blue.len(), 3);
+        for line in grey.iter().chain(&blue) {
+            assert!(
+                xs(line).windows(2).all(|w| w[1] > w[0]),
+                "goes back: {line}"
+            );
+        }
+    }
+
+    #[test]
+    fn overfull_legends_say_how_many_are_left_out() {
+        let tracks: Vec<Track> = (0..60)
+            .map(|k| {
+                (
+                    format!("mode {k}"),
+                    vec![(0.1, 1000.0 + k as f64, 1.0), (0.9, 1100.0, 2.0)],
+                    true,
+                )
+            })
+            .collect();
+        let svg = sweep_tracks(&tracks, "many").unwrap();
+        check_xml(&svg).unwrap();
+        let shown = texts(&svg)
+            .iter()
+            .filter(|t| t.starts_with("mode "))
+            .count();
+        assert!(shown > 5 && shown < 60, "{shown}");
+        assert!(svg.contains(&format!("… and {} more", 60 - shown)));
+    }
+
+    #[test]
+    fn degenerate_inputs_give_valid_svg() {
+        let nan = f64::NAN;
+        for (tracks, drawn) in [
+            (vec![], 0),
+            (vec![("empty".to_string(), vec![], true)], 0),
+            (vec![("nan".to_string(), vec![(nan, nan, nan)], false)], 0),
+            (vec![("one".to_string(), vec![(0.3, 1000.0, 0.0)], true)], 2),
+            (
+                vec![("flat".to_string(), vec![(0.3, 1000.0, 0.0); 3], false)],
+                6,
+            ),
+            (
+                vec![(
+                    "huge".to_string(),
+                    vec![(0.1, 1e300, -1e300), (0.2, f64::INFINITY, 1e-300)],
+                    true,
+                )],
+                3,
+            ),
+        ] {
+            let svg = sweep_tracks(&tracks, "").unwrap();
+            check_xml(&svg).unwrap_or_else(|e| panic!("{e}\n{svg}"));
+            if drawn == 0 {
+                assert!(svg.contains("no data"), "{tracks:?}");
+            } else {
+                assert_eq!(markers(&svg), drawn + 1, "{tracks:?}");
+            }
+        }
+    }
+}
