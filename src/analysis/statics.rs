@@ -118,8 +118,8 @@ pub enum StaticsError {
     },
     #[error("the tangent stiffness is singular at the start of the static solve: {}; hold every body with supports, springs or contact pairs (guides, abutments)", .0.iter().map(|m| m.to_string()).collect::<Vec<_>>().join("; "))]
     Unrestrained(Vec<FreeBody>),
-    #[error("a contact point failed on another rank (its message is printed by that rank)")]
-    OtherRank,
+    #[error("a contact point failed on rank {rank}: {message}")]
+    OtherRank { rank: usize, message: String },
     #[error("contact: {0}")]
     Contact(#[from] contact::ContactError),
     #[error(transparent)]
@@ -212,11 +212,11 @@ fn collective_failure(
     comm: Comm,
     failure: Option<contact::ContactError>,
 ) -> Result<(), StaticsError> {
-    let all_ok = comm.all(failure.is_none());
-    match failure {
-        Some(e) => Err(e.into()),
-        None if !all_ok => Err(StaticsError::OtherRank),
-        None => Ok(()),
+    let first = comm.first_message(failure.as_ref().map(|e| e.to_string()));
+    match (failure, first) {
+        (Some(e), _) => Err(e.into()),
+        (None, Some((rank, message))) => Err(StaticsError::OtherRank { rank, message }),
+        (None, None) => Ok(()),
     }
 }
 

@@ -97,6 +97,30 @@ impl<'rt> Comm<'rt> {
             .all_reduce_into(&local[..], values, SystemOperation::max());
     }
 
+    /// The message of the lowest rank that has one, with that rank, on every rank
+    /// (collective): how a failure seen by one rank is reported whole by whichever rank
+    /// prints, instead of "failed elsewhere".
+    pub fn first_message(&self, local: Option<String>) -> Option<(usize, String)> {
+        let mine = if local.is_some() {
+            self.rank as u64
+        } else {
+            self.size as u64
+        };
+        let mut first = 0u64;
+        self.mpi
+            .all_reduce_into(&mine, &mut first, SystemOperation::min());
+        if first as usize >= self.size {
+            return None;
+        }
+        let root = self.mpi.process_at_rank(first as i32);
+        let mut bytes = local.unwrap_or_default().into_bytes();
+        let mut length = bytes.len() as u64;
+        root.broadcast_into(&mut length);
+        bytes.resize(length as usize, 0);
+        root.broadcast_into(&mut bytes[..]);
+        Some((first as usize, String::from_utf8_lossy(&bytes).into_owned()))
+    }
+
     /// Rank 0's `values` on every rank, whatever their length there (collective): how a
     /// result computed once on rank 0 (a dense reduced model's) reaches the others, so that
     /// every rank takes the same decisions from the same bits.

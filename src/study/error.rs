@@ -313,7 +313,10 @@ mod tests {
     fn a_failed_static_says_which_friction_value() {
         let e = StudyError::Static {
             mu: 0.35,
-            source: StaticsError::OtherRank,
+            source: StaticsError::OtherRank {
+                rank: 1,
+                message: "node 7 out of range".into(),
+            },
         };
         let text = chain(&e);
         assert!(text[0].contains("mu = 0.35"), "{text:?}");

@@ -307,7 +307,7 @@ impl<'rt> FullModel<'rt> {
             slip: &SlipHistory::default(),
             bodies: &self.bodies,
         };
-        let rest = vec![[0.0; 3]; self.model.mesh.nodes.len()];
+        let rest = vec![[0.0; 3]; self.model.node_count()];
         for free in statics::held_only_by_friction(comm, &problem, &rest)? {
             tracing::warn!(
                 "only friction holds a body: {free}; give it supports, springs or links \
