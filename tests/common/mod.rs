@@ -13,6 +13,13 @@ pub const HANG_LIMIT_SECONDS: u32 = 600;
 /// `mpirun -n ranks program args...` with the settings this machine needs (root, 2 cores),
 /// killed after [`HANG_LIMIT_SECONDS`] so a hang fails the test instead of the CI run.
 pub fn mpirun(ranks: usize, program: &Path, args: &[&str]) -> Output {
+    // Each job its own session folder: OpenMPI 4.1 creates /tmp/ompi.<host>.<uid> on start,
+    // and two jobs starting at once (the tests of a binary run in parallel) can both try,
+    // the loser failing in orte_init with "File exists".
+    let session = tempfile::Builder::new()
+        .prefix("squeal-ompi-")
+        .tempdir()
+        .expect("a temporary folder for the MPI session");
     Command::new("timeout")
         .arg(HANG_LIMIT_SECONDS.to_string())
         .args(["mpirun", "-n", &ranks.to_string(), "--oversubscribe"])
@@ -20,6 +27,7 @@ pub fn mpirun(ranks: usize, program: &Path, args: &[&str]) -> Output {
         .args(args)
         .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
         .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+        .env("OMPI_MCA_orte_tmpdir_base", session.path())
         .output()
         .expect("could not run `timeout mpirun`: install openmpi-bin (ci/setup does)")
 }
