@@ -587,7 +587,11 @@ mod tests {
         let e = anyhow::Error::from(StudyError::write("out/cea.json", io));
         assert_eq!(describe(&e), "writing out/cea.json: gone");
         // A context that does not repeat its cause gets it appended, as `{:#}` does.
-        let e = anyhow::Error::from(StudyError::OnAnotherRank.collective()).context("sweep");
-        assert_eq!(describe(&e), "sweep: failed on another rank");
+        let on_one = StudyError::OnAnotherRank {
+            rank: 1,
+            message: "element 7: inverted".into(),
+        };
+        let e = anyhow::Error::from(on_one.collective()).context("sweep");
+        assert_eq!(describe(&e), "sweep: on rank 1: element 7: inverted");
     }
 }

@@ -230,8 +230,35 @@ fn bad_input_gives_one_clear_error_and_no_results() {
     std::fs::write(&inverted, bad).unwrap();
     let e = failure(2, &["modes", inverted.to_str().unwrap(), "-o", o]);
     assert!(e.to_lowercase().contains("element"), "{e}");
+    // The last element (on rank 1 of 2): the one message printed still says which and why.
+    let (bad, label) = swap_two_corners_of_last_element(&deck);
+    std::fs::write(&inverted, bad).unwrap();
+    let e = failure(2, &["modes", inverted.to_str().unwrap(), "-o", o]);
+    assert!(
+        e.contains(&format!("element {label}")) && e.contains("Jacobian determinant"),
+        "{e}"
+    );
     // Nothing was written by any of these runs.
     assert!(!out.join("modes.json").exists());
+}
+
+/// Swaps corners 2 and 3 of the last C3D10 element line; returns the deck and its label.
+fn swap_two_corners_of_last_element(deck: &str) -> (String, String) {
+    let mut lines: Vec<String> = deck.lines().map(String::from).collect();
+    let start = lines
+        .iter()
+        .position(|l| l.to_uppercase().starts_with("*ELEMENT"))
+        .unwrap();
+    let last = start
+        + lines[start + 1..]
+            .iter()
+            .take_while(|l| !l.starts_with('*'))
+            .count();
+    let line = &mut lines[last];
+    let mut f: Vec<String> = line.split(',').map(|s| s.trim().to_string()).collect();
+    f.swap(2, 3);
+    *line = f.join(", ");
+    (lines.join("\n"), f[0].clone())
 }
 
 /// Swaps corners 2 and 3 of the first C3D10 element line (turning it inside out).

@@ -22,8 +22,8 @@ pub enum AssemblyError {
         part: String,
         reason: ElementError,
     },
-    #[error("an element on another rank failed (its message is printed by that rank)")]
-    OnAnotherRank,
+    #[error("on rank {rank}: {message}")]
+    OnAnotherRank { rank: usize, message: String },
     #[error(transparent)]
     Petsc(#[from] PetscError),
 }
@@ -175,13 +175,14 @@ pub fn stiffness_and_mass<'rt>(
             m.add_block(&idx, &idx, &flat)?;
         }
     }
-    let ok = materials.is_ok() && local_error.is_none();
-    if !comm.all(ok) {
-        return Err(match (materials, local_error) {
-            (Err(e), _) => e,
-            (_, Some(e)) => e,
-            _ => AssemblyError::OnAnotherRank,
-        });
+    let local = match (materials, local_error) {
+        (Err(e), _) | (_, Some(e)) => Some(e),
+        _ => None,
+    };
+    // Every rank learns the first failing rank's message, so whichever rank reports says
+    // why, not only that something failed elsewhere.
+    if let Some((rank, message)) = comm.first_message(local.as_ref().map(|e| e.to_string())) {
+        return Err(local.unwrap_or(AssemblyError::OnAnotherRank { rank, message }));
     }
     k.assemble()?;
     m.assemble()?;

@@ -24,9 +24,9 @@ pub enum AssembleError {
     Assembly(#[from] AssemblyError),
     #[error(transparent)]
     Petsc(#[from] PetscError),
-    /// This rank's part went well, another's did not (that rank names the cause).
-    #[error("the assembly failed on another rank (its message is printed there)")]
-    OnAnotherRank,
+    /// This rank's part went well, another's did not: that rank's message.
+    #[error("the assembly failed on rank {rank}: {message}")]
+    OnAnotherRank { rank: usize, message: String },
 }
 
 /// Makes a rank-local result collective: every rank fails when one does.
@@ -34,11 +34,12 @@ fn collective<T, E: Into<AssembleError>>(
     comm: Comm,
     local: Result<T, E>,
 ) -> Result<T, AssembleError> {
-    let ok = comm.all(local.is_ok());
-    match local {
-        Ok(v) if ok => Ok(v),
-        Ok(_) => Err(AssembleError::OnAnotherRank),
-        Err(e) => Err(e.into()),
+    let local = local.map_err(Into::into);
+    let first = comm.first_message(local.as_ref().err().map(|e| e.to_string()));
+    match (local, first) {
+        (Ok(v), None) => Ok(v),
+        (Ok(_), Some((rank, message))) => Err(AssembleError::OnAnotherRank { rank, message }),
+        (Err(e), _) => Err(e),
     }
 }
 

@@ -210,9 +210,9 @@ pub enum StudyError {
     /// Work done on rank 0 alone failed there (rank 0 reports why).
     #[error("the {0} failed on rank 0")]
     FailedOnRoot(&'static str),
-    /// This rank went well, another failed (that rank reports why).
-    #[error("failed on another rank")]
-    OnAnotherRank,
+    /// This rank went well, another failed: the first failing rank's message.
+    #[error("on rank {rank}: {message}")]
+    OnAnotherRank { rank: usize, message: String },
     /// An error every rank has (same input, same check): rank 0 reports it once and every
     /// rank exits with failure, no abort needed. See [`crate::study::report::collective`].
     #[error(transparent)]

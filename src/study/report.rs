@@ -32,16 +32,40 @@ pub fn create_dir(dir: &Path) -> Result<(), StudyError> {
 }
 
 /// Makes a per-rank result collective: if any rank failed, every rank returns an error
-/// (its own, or [`StudyError::OnAnotherRank`]), marked [`StudyError::Collective`].
+/// (its own, or the first failing rank's as [`StudyError::OnAnotherRank`]), marked
+/// [`StudyError::Collective`].
 /// Collective call.
 pub fn collective<T, E>(comm: crate::petsc::Comm, local: Result<T, E>) -> Result<T, StudyError>
 where
     E: Into<StudyError>,
 {
-    let ok = comm.all(local.is_ok());
-    match local {
-        Ok(v) if ok => Ok(v),
-        Ok(_) => Err(StudyError::OnAnotherRank.collective()),
-        Err(e) => Err(e.into().collective()),
+    let local = local.map_err(Into::into);
+    let first = comm.first_message(local.as_ref().err().map(chain));
+    match (local, first) {
+        (Ok(v), None) => Ok(v),
+        (Ok(_), Some((rank, message))) => {
+            Err(StudyError::OnAnotherRank { rank, message }.collective())
+        }
+        // Rank 0 alone prints a collective error: the first failing rank's words, so a
+        // failure seen by rank 1 only is not lost.
+        (Err(e), Some((rank, message))) if rank != comm.rank() => {
+            drop(e);
+            Err(StudyError::OnAnotherRank { rank, message }.collective())
+        }
+        (Err(e), _) => Err(e.collective()),
     }
+}
+
+/// An error and its causes, "what: why: why that", each cause once.
+fn chain(e: &StudyError) -> String {
+    let mut text = e.to_string();
+    let mut source = std::error::Error::source(e);
+    while let Some(cause) = source {
+        let words = cause.to_string();
+        if !text.ends_with(&words) {
+            text = format!("{text}: {words}");
+        }
+        source = cause.source();
+    }
+    text
 }
