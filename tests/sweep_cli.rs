@@ -156,6 +156,37 @@ fn failure(args: &[&str]) -> String {
     stderr
 }
 
+/// `squeal cea` refuses a band or a threshold that cannot mean anything before it reads a
+/// matrix, once (not once per rank), naming the flag, and writes nothing.
+#[test]
+fn cea_flags_out_of_range_are_refused_up_front() {
+    let dir = scratch("cea-flags");
+    write_mtx(&dir.join("K.mtx"), &[(0, 0, 2.0), (1, 1, 2.0)]);
+    write_mtx(&dir.join("M.mtx"), &[(0, 0, 1.0), (1, 1, 1.0)]);
+    let out = dir.join("out");
+    for (flag, value, words) in [
+        // flag=value: a value that starts with '-' is not taken for a flag.
+        ("--fmax", "1e300", "above"),
+        ("--fmax", "inf", "finite"),
+        ("--unstable-threshold", "-1", "[0, 1)"),
+        ("--unstable-threshold", "nan", "[0, 1)"),
+    ] {
+        let e = failure(&[
+            "cea",
+            "--stiffness",
+            dir.join("K.mtx").to_str().unwrap(),
+            "--mass",
+            dir.join("M.mtx").to_str().unwrap(),
+            &format!("{flag}={value}"),
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert!(e.contains(flag) && e.contains(words), "{flag} {value}: {e}");
+        assert_eq!(e.matches("squeal: error").count(), 1, "{e}");
+        assert!(!out.exists(), "{flag} {value} wrote {}", out.display());
+    }
+}
+
 /// With no file and no preset, the study is the paper's floating-caliper brake: Table 1's
 /// four interfaces (slave = pad side) with their friction and separation flags, the disc's
 /// swept, the others Coulomb.

@@ -68,6 +68,40 @@ impl Default for CeaOptions {
     }
 }
 
+/// The highest band a study may ask for. A brake's squeal lies below 20 kHz and a
+/// 10-node tetrahedral mesh of one resolves a few tens of kHz at best; a band of megahertz
+/// is a unit slip (kHz typed as Hz), and the CEA would step through thousands of shifts
+/// before saying anything.
+pub const MAX_BAND_HZ: f64 = 1e6;
+
+/// Why `max_frequency_hz` cannot be a band's top (finite, > 0, at most [`MAX_BAND_HZ`]).
+pub fn band_problem(max_frequency_hz: f64) -> Option<String> {
+    if !(max_frequency_hz > 0.0 && max_frequency_hz.is_finite()) {
+        Some(format!(
+            "must be a finite frequency > 0 (Hz), got {max_frequency_hz}"
+        ))
+    } else if max_frequency_hz > MAX_BAND_HZ {
+        Some(format!(
+            "{max_frequency_hz:e} Hz is above the {MAX_BAND_HZ:e} Hz a structural CEA can \
+             mean (a frequency in kHz given as Hz?)"
+        ))
+    } else {
+        None
+    }
+}
+
+/// Why `threshold` cannot be [`CeaOptions::unstable_threshold`]: a fraction of |lambda| in
+/// [0, 1). Negative flags stable modes as unstable; 1 or more flags none; NaN compares
+/// false with everything.
+pub fn threshold_problem(threshold: f64) -> Option<String> {
+    (!(0.0..1.0).contains(&threshold)).then(|| {
+        format!(
+            "must be a fraction of |lambda| in [0, 1) (Re lambda > threshold |lambda| is \
+             unstable), got {threshold}"
+        )
+    })
+}
+
 /// One complex mode (one lambda with non-negative frequency).
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct ComplexMode {

@@ -69,8 +69,11 @@ fn assemble(args: &AssembleArgs) -> Result<(), StudyError> {
     {
         return Err(StudyError::BadFriction(args.friction.clone()));
     }
-    if !(args.max_frequency_hz.is_finite() && args.max_frequency_hz > 0.0) {
-        return Err(StudyError::BadMaxFrequency(args.max_frequency_hz));
+    if let Some(why) = crate::analysis::cea::band_problem(args.max_frequency_hz) {
+        return Err(StudyError::BadFlag {
+            flag: "--fmax",
+            why,
+        });
     }
     let se = superelement_file::read(&args.file, None)?;
     let assembly =

@@ -91,6 +91,21 @@ pub fn run(rt: &Runtime, args: &CeaArgs) -> Result<(), StudyError> {
     let comm = rt.world();
     let root = comm.rank() == 0;
     let started = Instant::now();
+    // Every rank has the same flags: the same refusal everywhere, before any reading.
+    let flags = [
+        ("--fmax", cea::band_problem(args.max_frequency_hz)),
+        (
+            "--unstable-threshold",
+            cea::threshold_problem(args.unstable_threshold),
+        ),
+        (
+            "--modes-per-target",
+            (args.modes_per_target == 0).then(|| "must be at least 1".to_string()),
+        ),
+    ];
+    if let Some((flag, Some(why))) = flags.into_iter().find(|(_, why)| why.is_some()) {
+        return Err(StudyError::BadFlag { flag, why }.collective());
+    }
     let set = collective(
         comm,
         matrix::read_pair(&args.stiffness, &args.mass, args.damping.as_deref()),

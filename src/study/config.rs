@@ -576,14 +576,38 @@ impl Study {
             }
         }
         let a = &self.analysis;
-        if !(a.max_frequency_hz > 0.0 && a.max_frequency_hz.is_finite()) {
-            return Err(bad(
-                "analysis.max_frequency_hz".into(),
-                format!("must be positive, got {}", a.max_frequency_hz),
-            ));
+        if let Some(why) = crate::analysis::cea::band_problem(a.max_frequency_hz) {
+            return Err(bad("analysis.max_frequency_hz".into(), why));
+        }
+        if let Some(why) = crate::analysis::cea::threshold_problem(a.unstable_threshold) {
+            return Err(bad("analysis.unstable_threshold".into(), why));
+        }
+        if a.window == 0 {
+            return Err(bad("analysis.window".into(), "must be at least 1".into()));
+        }
+        if let Some(d) = &a.damping {
+            for (key, value) in [("alpha", d.alpha), ("beta", d.beta)] {
+                if !(value >= 0.0 && value.is_finite()) {
+                    return Err(bad(
+                        format!("analysis.damping.{key}"),
+                        format!("must be finite and >= 0, got {value}"),
+                    ));
+                }
+            }
         }
         if a.friction.is_empty() {
             return Err(bad("analysis.friction".into(), "no friction values".into()));
+        }
+        for (i, mu) in a.friction.iter().enumerate() {
+            if a.friction[..i].contains(mu) {
+                return Err(bad(
+                    format!("analysis.friction[{i}]"),
+                    format!(
+                        "{mu} is given twice: each friction value is one point of the sweep, \
+                         and its modes are tracked from the point before"
+                    ),
+                ));
+            }
         }
         for (i, &mu) in a.friction.iter().enumerate() {
             if !(mu >= 0.0 && mu.is_finite()) {
@@ -850,6 +874,60 @@ mod tests {
         let s = Study::read(&p).unwrap();
         assert_eq!(s.contacts[0].friction_law, FrictionLawName::Coulomb);
         assert_eq!(s.contacts[0].stick_stiffness, Some(1e12));
+    }
+
+    /// Numbers a sweep would run on for minutes before failing (or never), refused when
+    /// the file is read, each naming its key.
+    #[test]
+    fn analysis_numbers_are_checked_up_front() {
+        for (name, analysis, key) in [
+            (
+                "band.toml",
+                "max_frequency_hz = 1e300",
+                "analysis.max_frequency_hz",
+            ),
+            (
+                "nan.toml",
+                "max_frequency_hz = nan",
+                "analysis.max_frequency_hz",
+            ),
+            (
+                "neg.toml",
+                "unstable_threshold = -1.0",
+                "analysis.unstable_threshold",
+            ),
+            (
+                "one.toml",
+                "unstable_threshold = 1.0",
+                "analysis.unstable_threshold",
+            ),
+            (
+                "tnan.toml",
+                "unstable_threshold = nan",
+                "analysis.unstable_threshold",
+            ),
+            (
+                "twice.toml",
+                "friction = [0.3, 0.3]",
+                "analysis.friction[1]",
+            ),
+            ("window.toml", "window = 0", "analysis.window"),
+            (
+                "damp.toml",
+                "damping = { alpha = nan, beta = 0.0 }",
+                "analysis.damping.alpha",
+            ),
+        ] {
+            let p = write(name, &format!("[analysis]\n{analysis}\n"));
+            let e = Study::read(&p).unwrap_err().to_string();
+            assert!(e.contains(name) && e.contains(key), "{name}: {e}");
+        }
+        // The edges of what is allowed.
+        let p = write(
+            "edges.toml",
+            "[analysis]\nmax_frequency_hz = 1e6\nunstable_threshold = 0.0\nfriction = [0.3, 0.1]\n",
+        );
+        Study::read(&p).unwrap();
     }
 
     #[test]

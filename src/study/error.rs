@@ -204,9 +204,9 @@ pub enum StudyError {
     /// `squeal assemble --friction` with a negative or non-finite value.
     #[error("--friction: every value must be finite and >= 0, got {0:?}")]
     BadFriction(Vec<f64>),
-    /// `squeal assemble --fmax` not finite and positive.
-    #[error("--fmax must be finite and > 0, got {0}")]
-    BadMaxFrequency(f64),
+    /// A command-line number out of range, refused before any work.
+    #[error("{flag}: {why}")]
+    BadFlag { flag: &'static str, why: String },
     /// Work done on rank 0 alone failed there (rank 0 reports why).
     #[error("the {0} failed on rank 0")]
     FailedOnRoot(&'static str),

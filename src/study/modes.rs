@@ -76,6 +76,16 @@ pub fn run(rt: &Runtime, args: &ModesArgs) -> Result<(), StudyError> {
     let comm = rt.world();
     let root = comm.rank() == 0;
     let started = Instant::now();
+    if let Some(why) = args
+        .max_frequency_hz
+        .and_then(crate::analysis::cea::band_problem)
+    {
+        return Err(StudyError::BadFlag {
+            flag: "--fmax",
+            why,
+        }
+        .collective());
+    }
     let model = load_model(
         rt,
         args.mesh.as_deref(),
