@@ -156,6 +156,36 @@ fn failure(args: &[&str]) -> String {
     stderr
 }
 
+/// K negative definite, M = I: omega^2 = -4, -9, so lambda = +/- 2, +/- 3 (real). The
+/// growing roots 2 and 3 are divergence instabilities: reported at 0 Hz and flagged.
+#[test]
+fn a_negative_stiffness_is_a_divergence_instability() {
+    let dir = scratch("divergence");
+    write_mtx(&dir.join("K.mtx"), &[(0, 0, -4.0), (1, 1, -9.0)]);
+    write_mtx(&dir.join("M.mtx"), &[(0, 0, 1.0), (1, 1, 1.0)]);
+    let out = dir.join("out");
+    success(
+        2,
+        &[
+            "cea",
+            "--stiffness",
+            dir.join("K.mtx").to_str().unwrap(),
+            "--mass",
+            dir.join("M.mtx").to_str().unwrap(),
+            "--fmax",
+            "1",
+            "-o",
+            out.to_str().unwrap(),
+        ],
+    );
+    let mut found = eigenvalues(&out);
+    found.sort_by(|a, b| a.1.total_cmp(&b.1));
+    assert_eq!(found.len(), 2, "{found:?}");
+    for ((f, re, unstable), expected) in found.into_iter().zip([2.0, 3.0]) {
+        assert!(f.abs() < 1e-12 && (re - expected).abs() < 1e-10 * expected && unstable);
+    }
+}
+
 /// `squeal cea` refuses a band or a threshold that cannot mean anything before it reads a
 /// matrix, once (not once per rank), naming the flag, and writes nothing.
 #[test]

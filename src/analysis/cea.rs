@@ -5,7 +5,8 @@
 //! is a quadratic problem (SLEPc PEP).
 //!
 //! Each omega^2 gives lambda = i sqrt(omega^2) = a + i b (principal root, b >= 0): frequency
-//! b / 2 pi, real part a. Friction couples two modes into a pair omega^2 = x +/- i y, whose
+//! b / 2 pi, real part a; a negative real omega^2 gives the growing real root (a divergence,
+//! see [`lambda_of`]). Friction couples two modes into a pair omega^2 = x +/- i y, whose
 //! lambdas have real parts -/+ a at one frequency: the mode with a > 0 grows (squeal).
 
 use super::rigid;
@@ -185,9 +186,23 @@ pub fn mode_from_lambda(
     }
 }
 
-/// lambda = i sqrt(omega^2), principal root (non-negative frequency).
+/// Below this |Im lambda| / |lambda| a root of omega^2 is a real lambda (a divergence, not
+/// a vibration): far above the ~1e-15 round-off of an eigensolver's imaginary part, far
+/// below any frequency a band resolves (1e-8 of 1 kHz is 1e-5 Hz).
+const REAL_ROOT: f64 = 1e-8;
+
+/// lambda = +/- i sqrt(omega^2): the root of non-negative frequency. When both roots have
+/// (nearly) zero frequency -- omega^2 real and negative, a stiffness that pushes the
+/// structure away from its equilibrium -- the one of positive real part: the divergence
+/// instability grows, and taking the principal root alone would report it as a decaying
+/// mode at 0 Hz.
 pub fn lambda_of(omega2: Complex64) -> Complex64 {
-    Complex64::new(0.0, 1.0) * omega2.sqrt()
+    let principal = Complex64::new(0.0, 1.0) * omega2.sqrt();
+    if principal.im.abs() <= REAL_ROOT * principal.norm() && principal.re < 0.0 {
+        Complex64::new(-principal.re, 0.0)
+    } else {
+        principal
+    }
 }
 
 /// Scales (re, im) so the component of largest modulus becomes 1 + 0i (collective).
@@ -506,5 +521,28 @@ mod tests {
         assert!(
             !n.unstable && n.real_part == 0.0 && (n.frequency_hz - 2.0 / (2.0 * PI)).abs() < 1e-15
         );
+    }
+
+    /// A negative omega^2 (K negative along a mode) has the roots lambda = +/- sqrt(-omega^2),
+    /// both at 0 Hz: the growing one is reported, flagged unstable, whatever the sign of the
+    /// round-off in omega^2's imaginary part.
+    #[test]
+    fn a_negative_omega_squared_is_a_divergence_instability() {
+        for im in [0.0, -0.0, 1e-13, -1e-13] {
+            let l = lambda_of(Complex64::new(-9.0, im));
+            assert!(
+                (l.re - 3.0).abs() < 1e-12 && l.im.abs() < 1e-12,
+                "{im}: {l}"
+            );
+            assert!((l * l + Complex64::new(-9.0, im)).norm() < 1e-12);
+            let m = mode_from_lambda(l, 0.0, 1e-6, false);
+            assert!(m.unstable && m.frequency_hz.abs() < 1e-12, "{im}: {m:?}");
+        }
+        // A coupled pair just off the real axis keeps its frequency and its two real parts.
+        let (l1, l2) = (
+            lambda_of(Complex64::new(-9.0, 1e-3)),
+            lambda_of(Complex64::new(-9.0, -1e-3)),
+        );
+        assert!(l1.im > 0.0 && l2.im > 0.0 && (l1.re + l2.re).abs() < 1e-12);
     }
 }
