@@ -182,6 +182,31 @@ pub fn read_pair(
             "the stiffness matrix has no equations",
         ));
     }
+    let n = matrices[0].rows;
+    if i32::try_from(n).is_err() {
+        return Err(MatrixFileError::invalid(
+            stiffness,
+            format!(
+                "declares {n} equations: squeal's PETSc numbers equations with 32-bit \
+                 integers (at most {})",
+                i32::MAX
+            ),
+        ));
+    }
+    // An equation with no entry in K nor in M has neither stiffness nor inertia: the pencil
+    // is singular there. Counting entries refuses a corrupt declared size (two billion
+    // equations and one entry) before anything is sized by it.
+    let held = matrices[0].entries.len() + matrices[1].entries.len();
+    if n > held {
+        return Err(MatrixFileError::invalid(
+            stiffness,
+            format!(
+                "declares {n} equations but the stiffness and mass matrices hold {held} \
+                 entries between them: at least {} equations have neither stiffness nor mass",
+                n - held
+            ),
+        ));
+    }
     let damping = (matrices.len() == 3).then(|| matrices.pop().expect("three matrices"));
     let mass = matrices.pop().expect("mass");
     let stiffness = matrices.pop().expect("stiffness");
@@ -243,10 +268,40 @@ mod tests {
     use super::*;
 
     #[test]
+    fn read_pair_refuses_declared_sizes_the_entries_cannot_fill() {
+        let dir = TempDir::new("sizes");
+        let mm = |n: usize, entries: &str| {
+            format!(
+                "%%MatrixMarket matrix coordinate real symmetric\n{n} {n} {}\n{entries}",
+                entries.lines().count()
+            )
+        };
+        // Two billion declared equations and one entry: refused by the counts, not by a
+        // failed allocation.
+        let k = dir.file("big.mtx", &mm(2_000_000_000, "1 1 1\n"));
+        let m = dir.file("bigm.mtx", &mm(2_000_000_000, "1 1 1\n"));
+        match read_pair(&k, &m, None) {
+            Err(MatrixFileError::Invalid { message, .. }) => {
+                assert!(message.contains("hold 2 entries"), "{message}")
+            }
+            other => panic!("{other:?}"),
+        }
+        let k = dir.file("huge.mtx", &mm(3_000_000_000, "1 1 1\n"));
+        match read_pair(&k, &k, None) {
+            Err(MatrixFileError::Invalid { message, .. }) => {
+                assert!(message.contains("32-bit"), "{message}")
+            }
+            other => panic!("{other:?}"),
+        }
+    }
+
+    #[test]
     fn read_pair_refuses_mixed_formats_and_sizes() {
         let dir = TempDir::new("pair");
+        // An identity of size n (every equation with stiffness and mass).
         let mm = |n: usize| {
-            format!("%%MatrixMarket matrix coordinate real symmetric\n{n} {n} 1\n1 1 1\n")
+            let diagonal: String = (1..=n).map(|i| format!("{i} {i} 1\n")).collect();
+            format!("%%MatrixMarket matrix coordinate real symmetric\n{n} {n} {n}\n{diagonal}")
         };
         let k = dir.file("k.mtx", &mm(3));
         let m = dir.file("m.mtx", &mm(2));
