@@ -10,6 +10,7 @@ pub mod analysis;
 pub mod atomic_file;
 pub mod contact;
 pub mod fem;
+pub mod input_file;
 pub mod io;
 pub mod mesh;
 pub mod model;

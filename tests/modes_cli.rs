@@ -238,6 +238,22 @@ fn bad_input_gives_one_clear_error_and_no_results() {
         e.contains(&format!("element {label}")) && e.contains("Jacobian determinant"),
         "{e}"
     );
+    // A device is not read to its (absent) end: an *INCLUDE of /dev/zero names the deck
+    // and the line, a deck that is a symlink to it names itself.
+    let include = dir.join("include.inp");
+    std::fs::write(&include, "*HEADING\n*INCLUDE, INPUT=/dev/zero\n").unwrap();
+    let e = failure(2, &["modes", include.to_str().unwrap(), "-o", o]);
+    assert!(
+        e.contains("include.inp:2") && e.contains("not a regular file"),
+        "{e}"
+    );
+    let link = dir.join("zero.inp");
+    std::os::unix::fs::symlink("/dev/zero", &link).unwrap();
+    let e = failure(2, &["modes", link.to_str().unwrap(), "-o", o]);
+    assert!(
+        e.contains("zero.inp") && e.contains("not a regular file"),
+        "{e}"
+    );
     // Nothing was written by any of these runs.
     assert!(!out.join("modes.json").exists());
 }

@@ -223,7 +223,7 @@ pub fn read(
         path: path.to_path_buf(),
         source,
     };
-    let file = std::fs::File::open(path).map_err(io)?;
+    let file = crate::input_file::open(path).map_err(io)?;
     let length = file.metadata().map_err(io)?.len();
     read_from(BufReader::new(file), length, path, expected_mesh_hash)
 }

@@ -466,7 +466,7 @@ impl Study {
 
     /// Reads and checks a study file; relative paths are made relative to its folder.
     pub fn read(path: &Path) -> Result<Study, ConfigError> {
-        let text = std::fs::read_to_string(path).map_err(|source| ConfigError::Io {
+        let text = crate::input_file::read_to_string(path).map_err(|source| ConfigError::Io {
             file: path.to_path_buf(),
             source,
         })?;

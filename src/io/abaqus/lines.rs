@@ -33,7 +33,7 @@ pub(super) struct Lines {
 
 impl Lines {
     pub(super) fn new(path: &Path) -> Result<Self, MeshError> {
-        let file = File::open(path).map_err(|source| MeshError::Io {
+        let file = crate::input_file::open(path).map_err(|source| MeshError::Io {
             file: path.to_path_buf(),
             source,
         })?;
@@ -81,7 +81,7 @@ impl Lines {
             Some(dir) => dir.join(name),
             None => PathBuf::from(name),
         };
-        let file = File::open(&path).map_err(|e| {
+        let file = crate::input_file::open(&path).map_err(|e| {
             self.error(
                 from,
                 format!(

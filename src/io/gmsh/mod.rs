@@ -50,7 +50,7 @@ pub const GMSH_TET10: [usize; 10] = [0, 1, 2, 3, 4, 5, 6, 7, 9, 8];
 
 /// Read a Gmsh mesh file (MSH 4.1 ASCII or binary, or MSH 2.2 ASCII).
 pub fn read(path: &Path) -> Result<Mesh, MeshError> {
-    let bytes = std::fs::read(path).map_err(|source| MeshError::Io {
+    let bytes = crate::input_file::read(path).map_err(|source| MeshError::Io {
         file: path.to_path_buf(),
         source,
     })?;

@@ -68,7 +68,7 @@ pub(super) struct Lines {
 
 impl Lines {
     pub(super) fn open(path: &Path) -> Result<Self, MatrixFileError> {
-        let file = File::open(path).map_err(|e| MatrixFileError::io(path, e))?;
+        let file = crate::input_file::open(path).map_err(|e| MatrixFileError::io(path, e))?;
         Ok(Lines {
             file: path.to_path_buf(),
             reader: BufReader::new(file),
