@@ -8,8 +8,11 @@
 //!   [`super::superelement`]; interior I: every other equation.
 //! - One LU of K_II (MUMPS) and one block solve for all of [-K_IB | F_I]: the constraint
 //!   modes Psi = -K_II^-1 K_IB and the load's static correction r = K_II^-1 F_I.
-//! - Fixed-interface modes Phi of (sym(K_II), M_II) below the cut-off, mass-normalised, by
-//!   spectrum slicing ([`crate::analysis::modes::real_modes`]).
+//! - Fixed-interface modes Phi of (K_II, M_II) below the cut-off, mass-normalised: by
+//!   spectrum slicing ([`crate::analysis::modes::real_modes`]) when K_II is symmetric; when a
+//!   kept pair's friction makes it unsymmetric, its right eigenvectors (the interior's CEA,
+//!   real and imaginary parts, M_II-orthonormalised; see [`unsymmetric_modes`] for why not
+//!   the modes of sym(K_II)).
 //! - T = [[I, 0, 0], [Psi, Phi, r]] in the model's equation order, distributed like K;
 //!   K_r = T^T K_t T, M_r = T^T M T, load T^T F.
 //! - q_s: u_B read off the equilibrium; (eta, alpha) the M_II-weighted least-squares fit of
@@ -27,13 +30,13 @@
 
 use super::interface::ReducedInterface;
 use super::superelement::{BoundaryPair, SuperElement, SuperElementHeader};
+use crate::analysis::cea::{self, CeaError, CeaOptions};
 use crate::analysis::modes::{self, ModeBand, ModesError, ModesOptions};
 use crate::analysis::statics::{self, Configuration, StaticsError};
 use crate::contact::{self, ContactError, ContactPair};
 use crate::model::Operators;
 use crate::petsc::{
     Comm, DenseMatrix, DirectPackage, FactoredMatrix, Factorization, IndexSet, Matrix, PetscError,
-    Structure,
 };
 use faer::linalg::solvers::Solve;
 use faer::Mat;
@@ -63,6 +66,8 @@ pub enum SuperElementError {
     Statics(#[from] StaticsError),
     #[error("fixed-interface modes: {0}")]
     Modes(#[from] ModesError),
+    #[error("fixed-interface modes of the unsymmetric interior: {0}")]
+    InteriorCea(#[from] CeaError),
     #[error(transparent)]
     Contact(#[from] ContactError),
     #[error(transparent)]
@@ -252,7 +257,7 @@ fn build<'rt>(
     let (lo, hi) = k_t.ownership_range()?;
     let b_set = IndexSet::owned_subset(comm, lo..hi, &sorted)?;
     let i_set = b_set.complement(lo..hi)?;
-    let k_ii = k_t.submatrix(&i_set, &i_set)?;
+    let mut k_ii = k_t.submatrix(&i_set, &i_set)?;
     let k_ib = k_t.submatrix(&i_set, &b_set)?;
     let mut m_ii = operators.mass.submatrix(&i_set, &i_set)?;
     m_ii.mark_symmetric()?;
@@ -287,46 +292,34 @@ fn build<'rt>(
     let factored = FactoredMatrix::new(comm, &k_ii, DirectPackage::Mumps, Factorization::Lu)?;
     let solved = factored.solve_block(&rhs)?.local_values()?;
     drop(rhs);
-    // With friction kept, the factorisation and K_II itself serve the skew corrections.
-    let (mut k_sym, unsymmetric) = if symmetric {
-        drop(factored);
-        (k_ii, None)
-    } else {
-        let mut s = k_ii.transpose()?;
-        s.add(1.0, &k_ii, Structure::Different)?;
-        s.scale(0.5)?;
-        (s, Some((factored, k_ii)))
-    };
-    k_sym.mark_symmetric()?;
     let constraint_seconds = started.elapsed().as_secs_f64();
     let started = std::time::Instant::now();
-    let found = modes::real_modes(
-        comm,
-        &k_sym,
-        &m_ii,
-        &ModesOptions {
-            band: ModeBand::Below {
-                max_frequency_hz: cutoff_hz,
+    let (shapes, n_fixed) = if symmetric {
+        drop(factored);
+        k_ii.mark_symmetric()?;
+        let found = modes::real_modes(
+            comm,
+            &k_ii,
+            &m_ii,
+            &ModesOptions {
+                band: ModeBand::Below {
+                    max_frequency_hz: cutoff_hz,
+                },
+                ..Default::default()
             },
-            ..Default::default()
-        },
-    )?;
-    let mut shapes: Vec<Vec<f64>> = found
-        .shapes
-        .iter()
-        .map(|v| Ok(v.read()?.to_vec()))
-        .collect::<Result<_, PetscError>>()?;
-    let n_fixed = shapes.len();
-    drop(found);
-    if let Some((factored, k_ii)) = unsymmetric {
-        let corrections = skew_corrections(comm, &factored, &k_ii, &k_sym, &m_ii, &shapes)?;
-        tracing::info!(
-            "super-element: {} static corrections of the fixed-interface modes for the skew \
-             (friction) part of K_II",
-            corrections.len()
-        );
-        shapes.extend(corrections);
-    }
+        )?;
+        let shapes: Vec<Vec<f64>> = found
+            .shapes
+            .iter()
+            .map(|v| Ok(v.read()?.to_vec()))
+            .collect::<Result<_, PetscError>>()?;
+        let n = shapes.len();
+        (shapes, n)
+    } else {
+        drop(factored);
+        let (shapes, n) = unsymmetric_modes(comm, &k_ii, &m_ii, cutoff_hz)?;
+        (shapes, n)
+    };
     let n_m = shapes.len();
     tracing::info!(
         "super-element: {n_b} boundary equations, {} interior, {n_fixed} fixed-interface modes below {cutoff_hz} Hz; constraint modes (one LU, one block solve) {constraint_seconds:.1} s, fixed-interface modes {:.1} s",
@@ -482,83 +475,94 @@ fn build<'rt>(
         boundary_equations: boundary.equations,
     })
 }
-/// Relative size below which a correction is taken as already in the span of the modes.
-const CORRECTION_TOLERANCE: f64 = 1e-8;
+/// Relative size (of the largest) below which a direction of the interior basis is taken
+/// as already in the span of the others.
+const SPAN_TOLERANCE: f64 = 1e-10;
 
-/// The static corrections of the fixed-interface modes for the skew part of K_II:
-/// `K_II^-1 K_skew Phi` (`K_skew = K_II - sym(K_II)`, the kept contacts' friction), made
-/// M_II-orthogonal to the modes and to each other, without those already in their span.
+/// The fixed-interface modes when a kept contact's friction makes K_II unsymmetric: the
+/// right eigenvectors of (K_II, M_II) below the cut-off (the CEA of the interior), real and
+/// imaginary parts of each, M_II-orthonormalised. Returns the basis and the number of
+/// eigenvalues it came from.
 ///
-/// Why they are needed. The modes come from sym(K_II), which does not see the friction of a
-/// kept contact; its block `mu k A t n^T` (steady sliding) or `mu k A s n^T` (Coulomb slip)
-/// turns the normal contact force of a mode into tangential loads that redistribute the
-/// contact pressure. The penalty makes that redistribution stiff: a basis without it forces
-/// the wrong pressure pattern, and a Galerkin projection is then off by far more than the
-/// truncation (a 1890 Hz mode of the tiny brake with a kept frictional pad came out at
-/// 1540 Hz). The static response to those loads is what the basis lacks to first order.
-fn skew_corrections<'rt>(
+/// Why not the modes of sym(K_II). A slipping point of a kept pair adds `mu k A s n^T`,
+/// whose symmetric part `mu k A (s n^T + n s^T) / 2` is indefinite on the point's (n, s)
+/// plane: with penalty stiffness, sym(K_II) of the floating-caliper brake has eigenvalues
+/// far below zero, which no band [0, f_cut] holds, and the Galerkin projection of K_t onto
+/// the modes of sym(K_II) (even with their static corrections for the skew part) placed
+/// five spurious divergence modes at 0 Hz in the per-friction super-element at mu 0.5
+/// (tiny-caliper, 22 nodes per pad, 18 kHz). A subspace invariant under
+/// (K_II, M_II) projects to exactly its own eigenvalues, whatever the symmetry.
+fn unsymmetric_modes<'rt>(
     comm: Comm<'rt>,
-    factored: &FactoredMatrix<'rt>,
     k_ii: &Matrix<'rt>,
-    k_sym: &Matrix<'rt>,
     m_ii: &Matrix<'rt>,
-    shapes: &[Vec<f64>],
+    cutoff_hz: f64,
+) -> Result<(Vec<Vec<f64>>, usize), SuperElementError> {
+    let found = cea::undamped(
+        comm,
+        k_ii,
+        m_ii,
+        &CeaOptions {
+            max_frequency_hz: cutoff_hz,
+            ..Default::default()
+        },
+    )?;
+    let count = found.modes.len();
+    let mut columns = Vec::with_capacity(2 * count);
+    for (re, im) in &found.shapes {
+        columns.push(re.read()?.to_vec());
+        columns.push(im.read()?.to_vec());
+    }
+    drop(found);
+    Ok((m_orthonormal(comm, m_ii, &columns)?, count))
+}
+
+/// An M-orthonormal basis of the span of `columns` (this rank's rows), without the
+/// directions below [`SPAN_TOLERANCE`] of the largest: the eigenvectors of their Gram matrix.
+/// Every rank holds the same Gram matrix, so every rank keeps the same directions.
+fn m_orthonormal<'rt>(
+    comm: Comm<'rt>,
+    m: &Matrix<'rt>,
+    columns: &[Vec<f64>],
 ) -> Result<Vec<Vec<f64>>, SuperElementError> {
-    let n_m = shapes.len();
-    if n_m == 0 {
+    let n = columns.len();
+    if n == 0 {
         return Ok(Vec::new());
     }
-    let rows = shapes[0].len();
-    let mut phi = DenseMatrix::zeros(comm, rows, n_m)?;
-    phi.write_local(|i, j| shapes[j][i])?;
-    let full = k_ii.mult_dense(&phi)?.local_values()?;
-    let sym = k_sym.mult_dense(&phi)?.local_values()?;
-    let mut skew = DenseMatrix::zeros(comm, rows, n_m)?;
-    skew.write_local(|i, j| full[(i, j)] - sym[(i, j)])?;
-    let e = factored.solve_block(&skew)?;
-    drop(skew);
-    // E - Phi (Phi^T M Phi)^-1 Phi^T M E: M-orthogonal to the modes.
-    let m_e = m_ii.mult_dense(&e)?;
-    let m_phi = m_ii.mult_dense(&phi)?;
-    let gram_phi = phi.transpose_mult(&m_phi)?;
-    let coupling = phi.transpose_mult(&m_e)?;
-    let c = gram_phi
-        .llt(faer::Side::Lower)
-        .map_err(|err| SuperElementError::Fit(format!("modes' Gram matrix: {err:?}")))?
-        .solve(&coupling);
-    let e_local = e.local_values()?;
-    let mut orth = DenseMatrix::zeros(comm, rows, n_m)?;
-    orth.write_local(|i, j| {
-        let along: f64 = (0..n_m).map(|k| shapes[k][i] * c[(k, j)]).sum();
-        e_local[(i, j)] - along
-    })?;
-    // Orthonormal in M through the eigenvectors of their Gram matrix, keeping the
-    // directions that are not (to round-off) in the modes' span. Every rank holds the same
-    // Gram matrix, so every rank keeps the same columns.
-    let m_orth = m_ii.mult_dense(&orth)?;
-    let gram = orth.transpose_mult(&m_orth)?;
-    // What "in the span" is measured against: the corrections' size before the projection,
-    // and at least the modes' own (each has unit M-norm), so that a skew part at round-off
-    // (a kept pair all sticking: symmetric up to the last bit) adds no noise vectors.
-    let gram_e = e.transpose_mult(&m_e)?;
-    let before: f64 = (0..n_m)
-        .map(|j| gram_e[(j, j)] / gram_phi[(j, j)])
-        .sum::<f64>()
-        .max(n_m as f64);
-    let evd = gram
-        .self_adjoint_eigen(faer::Side::Lower)
-        .map_err(|err| SuperElementError::Fit(format!("corrections' Gram matrix: {err:?}")))?;
-    let (values, vectors) = (evd.S().column_vector(), evd.U());
-    let keep: Vec<usize> = (0..n_m)
-        .filter(|&k| values[k] > CORRECTION_TOLERANCE * before)
+    let rows = columns[0].len();
+    // Unit M-norm first, so that the tolerance compares directions, not lengths.
+    let mut v = DenseMatrix::zeros(comm, rows, n)?;
+    v.write_local(|i, j| columns[j][i])?;
+    let gram = v.transpose_mult(&m.mult_dense(&v)?)?;
+    let scale: Vec<f64> = (0..n)
+        .map(|j| {
+            let d = gram[(j, j)];
+            if d > 0.0 {
+                1.0 / d.sqrt()
+            } else {
+                0.0
+            }
+        })
         .collect();
-    let o = orth.local_values()?;
+    let g = Mat::<f64>::from_fn(n, n, |i, j| scale[i] * gram[(i, j)] * scale[j]);
+    let evd = g
+        .self_adjoint_eigen(faer::Side::Lower)
+        .map_err(|err| SuperElementError::Fit(format!("interior basis' Gram matrix: {err:?}")))?;
+    let (values, vectors) = (evd.S().column_vector(), evd.U());
+    let largest = (0..n).map(|k| values[k]).fold(0.0, f64::max);
+    let keep: Vec<usize> = (0..n)
+        .filter(|&k| values[k] > SPAN_TOLERANCE * largest)
+        .collect();
     Ok(keep
         .iter()
         .map(|&k| {
-            let scale = 1.0 / values[k].sqrt();
+            let s = 1.0 / values[k].sqrt();
             (0..rows)
-                .map(|i| scale * (0..n_m).map(|j| o[(i, j)] * vectors[(j, k)]).sum::<f64>())
+                .map(|i| {
+                    s * (0..n)
+                        .map(|j| columns[j][i] * scale[j] * vectors[(j, k)])
+                        .sum::<f64>()
+                })
                 .collect()
         })
         .collect())

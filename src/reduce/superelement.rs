@@ -50,8 +50,9 @@ pub struct SuperElementHeader {
     pub friction: f64,
     /// Fixed-interface modes kept up to this frequency (Hz).
     pub cutoff_hz: f64,
-    /// Interior basis vectors: the fixed-interface modes kept, then (with a kept frictional
-    /// contact) their static corrections for the skew part of K_II.
+    /// Interior basis vectors: the fixed-interface modes kept (with a kept frictional
+    /// contact, the M_II-orthonormal span of the real and imaginary parts of the right
+    /// eigenvectors of the unsymmetric (K_II, M_II)).
     pub modes: usize,
     /// Reduced size: 6 per boundary pair + modes + 1 (the static correction).
     pub size: usize,
