@@ -18,8 +18,10 @@ fn scratch(name: &str) -> PathBuf {
 }
 
 fn write_mtx(path: &Path, entries: &[(usize, usize, f64)]) {
+    // 2 x 2, or larger when an entry says so.
+    let n = entries.iter().map(|e| e.0.max(e.1) + 1).fold(2, usize::max);
     let mut s = format!(
-        "%%MatrixMarket matrix coordinate real general\n2 2 {}\n",
+        "%%MatrixMarket matrix coordinate real general\n{n} {n} {}\n",
         entries.len()
     );
     for (i, j, v) in entries {
@@ -215,6 +217,80 @@ fn cea_flags_out_of_range_are_refused_up_front() {
         assert_eq!(e.matches("squeal: error").count(), 1, "{e}");
         assert!(!out.exists(), "{flag} {value} wrote {}", out.display());
     }
+}
+
+/// Matrices that are no eigenproblem are refused before or after the solve, never reported:
+/// a mass matrix that cannot be positive definite (negative, missing or all-zero mass, an
+/// indefinite 2 x 2 block), a zero stiffness, and a result whose residuals are not small
+/// (an entry of 1e308 made every residual NaN, once reported as 3 instabilities). Each
+/// names the file or the residual, once, under `mpirun -n 2`, with nothing written.
+#[test]
+fn matrices_that_are_no_eigenproblem_are_refused() {
+    let dir = scratch("pencil");
+    let k = [(0, 0, 4e6), (0, 1, -1e5), (1, 0, -1e5), (1, 1, 9e6)];
+    write_mtx(&dir.join("K.mtx"), &k);
+    write_mtx(&dir.join("M.mtx"), &[(0, 0, 1.0), (1, 1, 1.0)]);
+    // Six equations, one coupling of 1e308: the norms overflow, the residuals are NaN.
+    let mut overflow: Vec<(usize, usize, f64)> =
+        (0..6).map(|i| (i, i, (i + 1) as f64 * 1e6)).collect();
+    overflow.push((0, 5, 1e308));
+    write_mtx(&dir.join("Kbig.mtx"), &overflow);
+    let unit: Vec<(usize, usize, f64)> = (0..6).map(|i| (i, i, 1.0)).collect();
+    write_mtx(&dir.join("M6.mtx"), &unit);
+    write_mtx(&dir.join("Kzero.mtx"), &[(0, 0, 0.0), (1, 1, 0.0)]);
+    write_mtx(&dir.join("Mneg.mtx"), &[(0, 0, 1.0), (1, 1, -1.0)]);
+    write_mtx(&dir.join("Mnone.mtx"), &[(0, 0, 1.0), (1, 1, 0.0)]);
+    write_mtx(&dir.join("Mzero.mtx"), &[(0, 0, 0.0), (1, 1, 0.0)]);
+    let coupled = [(0, 0, 1.0), (0, 1, 1.5), (1, 0, 1.5), (1, 1, 1.0)];
+    write_mtx(&dir.join("Mind.mtx"), &coupled);
+    let out = dir.join("out");
+    for (stiffness, mass, words) in [
+        ("K", "Mneg", "Mneg.mtx: the mass of equation 2 is -1e0"),
+        ("K", "Mnone", "Mnone.mtx: 1 of 2 equations have no mass"),
+        ("K", "Mzero", "Mzero.mtx: the mass matrix is zero"),
+        (
+            "K",
+            "Mind",
+            "the 2 x 2 block of the two is not positive definite",
+        ),
+        ("Kzero", "M", "Kzero.mtx: the stiffness matrix is zero"),
+        (
+            "Kbig",
+            "M6",
+            "6 of 6 eigenpairs have a relative residual above 1e-6",
+        ),
+    ] {
+        let e = failure(&[
+            "cea",
+            "--stiffness",
+            dir.join(format!("{stiffness}.mtx")).to_str().unwrap(),
+            "--mass",
+            dir.join(format!("{mass}.mtx")).to_str().unwrap(),
+            "--fmax",
+            "1000",
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert!(e.contains(words), "{stiffness} {mass}: {e}");
+        assert_eq!(e.matches("squeal: error").count(), 1, "{e}");
+        assert!(!out.exists(), "{stiffness} {mass} wrote {}", out.display());
+    }
+    // The same K with a good M is a result (the control: 318.3 and 477.5 Hz).
+    success(
+        2,
+        &[
+            "cea",
+            "--stiffness",
+            dir.join("K.mtx").to_str().unwrap(),
+            "--mass",
+            dir.join("M.mtx").to_str().unwrap(),
+            "--fmax",
+            "1000",
+            "-o",
+            out.to_str().unwrap(),
+        ],
+    );
+    assert_eq!(eigenvalues(&out).len(), 2);
 }
 
 /// With no file and no preset, the study is the paper's floating-caliper brake: Table 1's

@@ -108,7 +108,10 @@ pub fn run(rt: &Runtime, args: &CeaArgs) -> Result<(), StudyError> {
     }
     let set = collective(
         comm,
-        matrix::read_pair(&args.stiffness, &args.mass, args.damping.as_deref()),
+        matrix::read_pair(&args.stiffness, &args.mass, args.damping.as_deref()).and_then(|set| {
+            set.check_pencil(&args.stiffness, &args.mass)?;
+            Ok(set)
+        }),
     )?;
     let n = set.stiffness.rows;
     if root {

@@ -18,6 +18,7 @@ mod error;
 mod lines;
 mod matrix_market;
 mod node_dof;
+mod pencil;
 #[cfg(test)]
 mod test_support;
 mod triplets;

@@ -1,0 +1,143 @@
+//! What an eigenproblem K phi = omega^2 M phi needs of matrices read from files, checked
+//! before anything is solved: a mass matrix that is positive definite as far as its entries
+//! alone can tell, and a stiffness matrix that is not zero.
+//!
+//! Why here and not in the readers: a file may hold a massless DOF legitimately (an Abaqus
+//! Lagrange multiplier, a connector's reference node) and reading it is not wrong; solving
+//! the pencil with it is. Its eigenvalue is infinite and, from round-off, came out as a
+//! divergence at 1.6e11 1/s flagged unstable; a negative mass gave another "instability";
+//! an all-zero M gave "no mode in the band".
+//!
+//! The tests are necessary conditions of positive definiteness that cost one pass over the
+//! entries: every diagonal entry positive and every 2 x 2 principal minor positive
+//! (m_ij^2 < m_ii m_jj). A matrix that passes them can still be indefinite; what they catch
+//! is what an export gets wrong (a sign, a missing element's mass, a DOF without inertia).
+
+use super::{MatrixFileError, MatrixSet, NodeDofMap, Triplets};
+use std::path::Path;
+
+impl MatrixSet {
+    /// Refuses a mass matrix that cannot be positive definite and a stiffness matrix that
+    /// is zero, naming the file and the first equation (with its node and DOF when the
+    /// format has them) that shows it.
+    pub fn check_pencil(&self, stiffness: &Path, mass: &Path) -> Result<(), MatrixFileError> {
+        if let Some(why) = mass_problem(&self.mass, self.node_dofs.as_ref()) {
+            return Err(MatrixFileError::invalid(mass, why));
+        }
+        if self.stiffness.entries.iter().all(|e| e.2 == 0.0) {
+            return Err(MatrixFileError::invalid(
+                stiffness,
+                "the stiffness matrix is zero: every eigenvalue would be 0",
+            ));
+        }
+        if let Some(&(r, c, v)) = self.stiffness.entries.iter().find(|e| !e.2.is_finite()) {
+            return Err(MatrixFileError::invalid(
+                stiffness,
+                format!("entry ({}, {}) is {v}: not a number", r + 1, c + 1),
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// Why `mass` cannot be a mass matrix, or None. Equations are named 1-based, as in the
+/// files, with their node.dof when `names` has them.
+fn mass_problem(mass: &Triplets, names: Option<&NodeDofMap>) -> Option<String> {
+    let name = |e: usize| match names.and_then(|m| m.node_dof(e)) {
+        Some(nd) => format!("equation {} (node.dof {nd})", e + 1),
+        None => format!("equation {}", e + 1),
+    };
+    if let Some(&(r, c, v)) = mass.entries.iter().find(|e| !e.2.is_finite()) {
+        return Some(format!("entry ({}, {}) is {v}: not a number", r + 1, c + 1));
+    }
+    let mut diagonal = vec![0.0; mass.rows];
+    for &(r, c, v) in &mass.entries {
+        if r == c {
+            diagonal[r] += v;
+        }
+    }
+    if diagonal.iter().all(|&d| d == 0.0) && mass.entries.iter().all(|e| e.2 == 0.0) {
+        return Some("the mass matrix is zero: there is no inertia to vibrate".into());
+    }
+    if let Some(e) = diagonal.iter().position(|&d| d < 0.0) {
+        return Some(format!(
+            "the mass of {} is {:e}: a mass matrix must be positive definite (a sign slip \
+             in the export?)",
+            name(e),
+            diagonal[e]
+        ));
+    }
+    let massless: Vec<usize> = (0..mass.rows).filter(|&e| diagonal[e] == 0.0).collect();
+    if let Some(&e) = massless.first() {
+        return Some(format!(
+            "{} of {} equations have no mass, the first {}: the mass matrix is singular and \
+             each such equation has an infinite eigenvalue, which round-off turns into a \
+             spurious mode; condense them out (a static condensation of the massless DOFs) \
+             or give them mass",
+            massless.len(),
+            mass.rows,
+            name(e)
+        ));
+    }
+    if let Some(&(r, c, v)) = mass
+        .entries
+        .iter()
+        .find(|&&(r, c, v)| r != c && v * v >= diagonal[r] * diagonal[c])
+    {
+        return Some(format!(
+            "the entry coupling {} and {} is {v:e}, as large as the geometric mean of their \
+             masses ({:e}, {:e}): the 2 x 2 block of the two is not positive definite, so \
+             neither is the mass matrix",
+            name(r),
+            name(c),
+            diagonal[r],
+            diagonal[c]
+        ));
+    }
+    None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn triplets(n: usize, entries: &[(usize, usize, f64)]) -> Triplets {
+        Triplets {
+            rows: n,
+            cols: n,
+            entries: entries.to_vec(),
+        }
+    }
+
+    #[test]
+    fn a_lumped_or_consistent_mass_passes() {
+        assert_eq!(
+            mass_problem(&triplets(2, &[(0, 0, 1.0), (1, 1, 2.0)]), None),
+            None
+        );
+        // A consistent bar element: [[2, 1], [1, 2]] / 6.
+        let bar = [(0, 0, 2.0), (0, 1, 1.0), (1, 0, 1.0), (1, 1, 2.0)];
+        assert_eq!(mass_problem(&triplets(2, &bar), None), None);
+    }
+
+    #[test]
+    fn masses_that_cannot_be_positive_definite_are_named() {
+        let why = |n, e: &[(usize, usize, f64)]| mass_problem(&triplets(n, e), None).unwrap();
+        assert!(why(2, &[(0, 0, 0.0), (1, 1, 0.0)]).contains("the mass matrix is zero"));
+        assert!(why(2, &[]).contains("the mass matrix is zero"));
+        let negative = why(3, &[(0, 0, 1.0), (1, 1, -1.0), (2, 2, 1.0)]);
+        assert!(
+            negative.contains("mass of equation 2 is -1e0"),
+            "{negative}"
+        );
+        let massless = why(3, &[(0, 0, 1.0), (2, 2, 1.0)]);
+        assert!(
+            massless.contains("1 of 3 equations have no mass, the first equation 2"),
+            "{massless}"
+        );
+        // Positive diagonal, indefinite 2 x 2 block.
+        let coupled = why(2, &[(0, 0, 1.0), (0, 1, 2.0), (1, 0, 2.0), (1, 1, 1.0)]);
+        assert!(coupled.contains("equation 1 and equation 2"), "{coupled}");
+        assert!(why(1, &[(0, 0, f64::NAN)]).contains("not a number"));
+    }
+}
