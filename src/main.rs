@@ -361,6 +361,7 @@ fn main() -> ExitCode {
         }
     };
     let world = rt.world();
+    study::interrupt::install(world.rank());
     // Progress is logged by rank 0 only; SQUEAL_LOG=debug shows more.
     let filter = if world.rank() == 0 {
         tracing_subscriber::EnvFilter::try_from_env("SQUEAL_LOG")

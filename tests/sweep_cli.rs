@@ -293,6 +293,107 @@ fn matrices_that_are_no_eigenproblem_are_refused() {
     assert_eq!(eigenvalues(&out).len(), 2);
 }
 
+/// Results are whole or absent. A sweep writes into `<output>.partial` and replaces the
+/// output only when done: interrupted by Ctrl-C to `mpirun` in its second friction value, it
+/// says so (where, and what is left) within seconds on every rank, the previous results in
+/// the output folder are untouched (before, new points were mixed with an old sweep.json),
+/// and the finished point is whole in the partial folder. An output path that is a file is
+/// refused before anything is computed.
+#[test]
+fn an_interrupted_sweep_leaves_the_previous_results_whole() {
+    let dir = scratch("interrupt");
+    let out = dir.join("out");
+    let o = out.to_str().unwrap();
+    success(
+        2,
+        &[
+            "sweep",
+            "--preset",
+            "tiny",
+            "--friction",
+            "0.2",
+            "--fmax",
+            "2000",
+            "-o",
+            o,
+        ],
+    );
+    let before = std::fs::read(out.join("sweep.json")).unwrap();
+    let (mut job, _session) = common::mpirun_spawn(
+        2,
+        squeal(),
+        &[
+            "sweep",
+            "--preset",
+            "tiny-caliper",
+            "--friction",
+            "0.1,0.2,0.3",
+            "--fmax",
+            "3000",
+            "-o",
+            o,
+        ],
+    );
+    let first = dir.join("out.partial/mu_0.100/cea.json");
+    let started = std::time::Instant::now();
+    while !first.exists() {
+        assert!(
+            job.try_wait().unwrap().is_none(),
+            "the sweep ended before its first point was written"
+        );
+        assert!(
+            started.elapsed().as_secs() < 300,
+            "no first point after 300 s"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(200));
+    }
+    let signalled = std::process::Command::new("kill")
+        .args(["-INT", &job.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(signalled.success());
+    let stopping = std::time::Instant::now();
+    let status = loop {
+        if let Some(status) = job.try_wait().unwrap() {
+            break status;
+        }
+        if stopping.elapsed().as_secs() > 60 {
+            let _ = job.kill();
+            panic!("the interrupted sweep did not stop within 60 s");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(100));
+    };
+    let output = job.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(!status.success(), "{stderr}");
+    assert!(stderr.contains("squeal: interrupted by SIG"), "{stderr}");
+    assert!(stderr.contains("out is unchanged"), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert_eq!(std::fs::read(out.join("sweep.json")).unwrap(), before);
+    assert!(
+        !out.join("mu_0.100").exists(),
+        "new points mixed with the old results"
+    );
+    let point: serde_json::Value = serde_json::from_slice(&std::fs::read(&first).unwrap()).unwrap();
+    assert!(!point["eigenvalues"].as_array().unwrap().is_empty());
+
+    let file = dir.join("a-file");
+    std::fs::write(&file, b"keep me").unwrap();
+    let e = failure(&[
+        "sweep",
+        "--preset",
+        "tiny",
+        "--friction",
+        "0.2",
+        "-o",
+        file.to_str().unwrap(),
+    ]);
+    assert!(e.contains("is a file, not a folder"), "{e}");
+    assert_eq!(std::fs::read(&file).unwrap(), b"keep me");
+    assert!(!dir.join("a-file.partial").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// With no file and no preset, the study is the paper's floating-caliper brake: Table 1's
 /// four interfaces (slave = pad side) with their friction and separation flags, the disc's
 /// swept, the others Coulomb.

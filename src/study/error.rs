@@ -153,6 +153,9 @@ pub enum StudyError {
         #[source]
         source: std::io::Error,
     },
+    /// The output path holds something a run must not replace.
+    #[error("the output {} cannot take the results: {why}; choose another with -o", path.display())]
+    OutputInTheWay { path: PathBuf, why: String },
     /// An output file cannot be written.
     #[error("writing {}: {source}", path.display())]
     Write {

@@ -9,10 +9,12 @@ pub mod compare;
 pub mod config;
 pub mod error;
 pub mod info;
+pub mod interrupt;
 pub mod modes;
 pub mod plot;
 pub mod radius;
 pub mod report;
+pub mod staging;
 pub mod sweep;
 pub mod write_mesh;
 

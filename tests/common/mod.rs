@@ -32,6 +32,31 @@ pub fn mpirun(ranks: usize, program: &Path, args: &[&str]) -> Output {
         .expect("could not run `timeout mpirun`: install openmpi-bin (ci/setup does)")
 }
 
+/// `mpirun -n ranks program args...` started in the background, for tests that signal it;
+/// the returned folder (the MPI session's) must outlive the job.
+pub fn mpirun_spawn(
+    ranks: usize,
+    program: &Path,
+    args: &[&str],
+) -> (std::process::Child, tempfile::TempDir) {
+    let session = tempfile::Builder::new()
+        .prefix("squeal-ompi-")
+        .tempdir()
+        .expect("a temporary folder for the MPI session");
+    let child = Command::new("mpirun")
+        .args(["-n", &ranks.to_string(), "--oversubscribe"])
+        .arg(program)
+        .args(args)
+        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+        .env("OMPI_MCA_orte_tmpdir_base", session.path())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("could not run `mpirun`: install openmpi-bin (ci/setup does)");
+    (child, session)
+}
+
 /// Whether the job was killed by the hang limit (`timeout` exits 124).
 pub fn hung(out: &Output) -> bool {
     out.status.code() == Some(124)

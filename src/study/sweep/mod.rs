@@ -17,7 +17,9 @@ pub use output::{ModelInfo, PairReport, SuperElementInfo, SuperElementPoint, Swe
 pub use superelement::{SuperElementModel, SuperElementSettings};
 
 use super::config::{ReductionSpec, Study};
+use super::interrupt;
 use super::report::{collective, write_file};
+use super::staging::Staging;
 use super::StudyError;
 use crate::analysis::cea::ComplexMode;
 use crate::analysis::tracking::{self, Instability, SweepPoint, TrackingOptions};
@@ -315,14 +317,49 @@ pub fn run(rt: &Runtime, study: &Study, file: &str) -> Result<SweepSummary, Stud
     sweep(comm, &mut model, &plan)
 }
 
-/// The friction sweep of any model (collective); rank 0 prints and writes.
+/// The friction sweep of any model (collective); rank 0 prints and writes. The results
+/// are written into `<output>.partial` and replace the output folder only when whole
+/// ([`Staging`]).
 pub fn sweep<'rt>(
     comm: Comm<'rt>,
     model: &mut dyn FrictionModel<'rt>,
     plan: &SweepPlan,
 ) -> Result<SweepSummary, StudyError> {
-    let root = comm.rank() == 0;
     let started = Instant::now();
+    let staging = Staging::begin(comm, &plan.output)?;
+    let staged = SweepPlan {
+        output: staging.path().to_path_buf(),
+        ..plan.clone()
+    };
+    let summary = match sweep_into(comm, model, &staged, &plan.output) {
+        Ok(summary) => summary,
+        Err(e) => {
+            staging.abandon(comm);
+            return Err(e);
+        }
+    };
+    let published = staging.publish(comm);
+    interrupt::clear();
+    collective(comm, published)?;
+    if comm.rank() == 0 {
+        println!(
+            "{} friction values in {:.1} s; results in {}",
+            summary.points.len(),
+            started.elapsed().as_secs_f64(),
+            plan.output.display()
+        );
+    }
+    Ok(summary)
+}
+
+/// The sweep written into `plan.output` (the staging folder of `published`).
+fn sweep_into<'rt>(
+    comm: Comm<'rt>,
+    model: &mut dyn FrictionModel<'rt>,
+    plan: &SweepPlan,
+    published: &Path,
+) -> Result<SweepSummary, StudyError> {
+    let root = comm.rank() == 0;
     let info = model.info();
     if root {
         tracing::info!("{}", info.describe());
@@ -331,6 +368,14 @@ pub fn sweep<'rt>(
     let mut points = Vec::new();
     let total = plan.friction.len();
     for (step, &mu) in plan.friction.iter().enumerate() {
+        interrupt::progress(format!(
+            " at mu {mu:.3} (point {} of {total}); {} finished point(s) are whole in {}; {} \
+             is unchanged",
+            step + 1,
+            step,
+            plan.output.display(),
+            published.display()
+        ));
         let outcome = model.solve_point(comm, mu)?;
         let report = outcome.report;
         if root {
@@ -366,12 +411,6 @@ pub fn sweep<'rt>(
         &instabilities,
     )?;
     print!("{}", output::summary_table(&reports, &instabilities));
-    println!(
-        "{} friction values in {:.1} s; results in {}",
-        reports.len(),
-        started.elapsed().as_secs_f64(),
-        plan.output.display()
-    );
     Ok(SweepSummary {
         points: reports,
         instabilities,

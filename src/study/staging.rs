@@ -1,0 +1,190 @@
+//! Whole-or-nothing result folders: a run writes into `<output>.partial` beside its output
+//! folder and, once everything is written, puts that folder in place of the output in two
+//! renames. A run that fails, is interrupted or is killed leaves the output folder as it
+//! was: a previous run's results stay whole, and new points are never mixed with them (a
+//! rerun with another band once left an old `sweep.json` and old plots beside new points).
+//!
+//! The output path is checked before anything is computed: a file in the way or a folder
+//! that cannot be written is refused at once, not after the first friction value.
+
+use super::report::collective;
+use super::StudyError;
+use crate::petsc::Comm;
+use std::path::{Path, PathBuf};
+
+/// Whether a folder entry is one a squeal run writes, which a new run may replace: the
+/// sweep's and the CEA's files, the figures, the per-point folders. A folder holding
+/// anything else is not replaced (it would be lost with the old results).
+fn written_by_squeal(name: &str, is_dir: bool) -> bool {
+    if is_dir {
+        return name.starts_with("mu_");
+    }
+    const FILES: [&str; 8] = [
+        "sweep.json",
+        "cea.json",
+        "cea.csv",
+        "cea.vtu",
+        "contact.json",
+        "compare.json",
+        "compare.md",
+        "assemble.json",
+    ];
+    FILES.contains(&name) || name.ends_with(".svg")
+}
+
+/// A run's folder in the making. Rank 0 owns the files; every rank holds the paths.
+pub struct Staging {
+    output: PathBuf,
+    partial: PathBuf,
+}
+
+/// `<output>.partial`, beside the output (the same file system, so a rename moves it).
+pub fn partial_path(output: &Path) -> PathBuf {
+    let mut name = output
+        .file_name()
+        .map(|n| n.to_os_string())
+        .unwrap_or_else(|| "squeal-out".into());
+    name.push(".partial");
+    output.with_file_name(name)
+}
+
+impl Staging {
+    /// Checks the output path and makes an empty `<output>.partial` (an unfinished run's
+    /// folder there is removed). Collective; errors are collective.
+    pub fn begin(comm: Comm, output: &Path) -> Result<Staging, StudyError> {
+        let partial = partial_path(output);
+        let local = if comm.rank() == 0 {
+            prepare(output, &partial)
+        } else {
+            Ok(())
+        };
+        collective(comm, local)?;
+        Ok(Staging {
+            output: output.to_path_buf(),
+            partial,
+        })
+    }
+
+    /// Where the run writes.
+    pub fn path(&self) -> &Path {
+        &self.partial
+    }
+
+    /// The output folder the run will replace.
+    pub fn output(&self) -> &Path {
+        &self.output
+    }
+
+    /// Puts the finished folder in place of the output (rank 0; the others return). The
+    /// previous results go to `<output>.previous` for the moment between the two renames,
+    /// so that the output path holds one whole run at every instant but that one.
+    pub fn publish(self, comm: Comm) -> Result<(), StudyError> {
+        if comm.rank() != 0 {
+            return Ok(());
+        }
+        let mut previous = self.output.clone().into_os_string();
+        previous.push(".previous");
+        let previous = PathBuf::from(previous);
+        if previous.exists() {
+            std::fs::remove_dir_all(&previous)
+                .map_err(|source| StudyError::write(&previous, source))?;
+        }
+        if self.output.exists() {
+            std::fs::rename(&self.output, &previous)
+                .map_err(|source| StudyError::write(&self.output, source))?;
+        }
+        std::fs::rename(&self.partial, &self.output)
+            .map_err(|source| StudyError::write(&self.output, source))?;
+        if previous.exists() {
+            std::fs::remove_dir_all(&previous)
+                .map_err(|source| StudyError::write(&previous, source))?;
+        }
+        Ok(())
+    }
+
+    /// Removes the unfinished folder after a failure (rank 0; best effort: the failure
+    /// itself is what the user must read).
+    pub fn abandon(self, comm: Comm) {
+        if comm.rank() == 0 {
+            let _ = std::fs::remove_dir_all(&self.partial);
+        }
+    }
+}
+
+/// Rank 0's checks: the output is absent, an empty folder or a squeal result folder; the
+/// staging folder can be made.
+fn prepare(output: &Path, partial: &Path) -> Result<(), StudyError> {
+    let not_results = |why: &str| StudyError::OutputInTheWay {
+        path: output.to_path_buf(),
+        why: why.to_string(),
+    };
+    match std::fs::metadata(output) {
+        Ok(m) if !m.is_dir() => return Err(not_results("it is a file, not a folder")),
+        Ok(_) => {
+            let entries =
+                std::fs::read_dir(output).map_err(|source| StudyError::write(output, source))?;
+            for entry in entries {
+                let entry = entry.map_err(|source| StudyError::write(output, source))?;
+                let is_dir = entry.file_type().is_ok_and(|t| t.is_dir());
+                let name = entry.file_name().to_string_lossy().into_owned();
+                if !written_by_squeal(&name, is_dir) {
+                    return Err(not_results(&format!(
+                        "it holds '{name}', which no squeal run writes, and a new run replaces \
+                         the whole folder"
+                    )));
+                }
+            }
+        }
+        Err(_) => {}
+    }
+    if partial.exists() {
+        tracing::info!("removing {}, left by an unfinished run", partial.display());
+        std::fs::remove_dir_all(partial).map_err(|source| StudyError::write(partial, source))?;
+    }
+    std::fs::create_dir_all(partial).map_err(|source| StudyError::create_dir(partial, source))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn partial_path_sits_beside_the_output() {
+        assert_eq!(
+            partial_path(Path::new("runs/out")),
+            PathBuf::from("runs/out.partial")
+        );
+        assert_eq!(
+            partial_path(Path::new("out/")),
+            PathBuf::from("out.partial")
+        );
+    }
+
+    #[test]
+    fn prepare_refuses_what_is_not_a_result_folder() {
+        let dir = tempfile::tempdir().unwrap();
+        let file = dir.path().join("file");
+        std::fs::write(&file, b"x").unwrap();
+        let e = prepare(&file, &partial_path(&file)).unwrap_err();
+        assert!(e.to_string().contains("is a file"), "{e}");
+        let foreign = dir.path().join("thesis");
+        std::fs::create_dir(&foreign).unwrap();
+        std::fs::write(foreign.join("chapter1.tex"), b"x").unwrap();
+        let e = prepare(&foreign, &partial_path(&foreign)).unwrap_err();
+        assert!(e.to_string().contains("it holds 'chapter1.tex'"), "{e}");
+        // A result folder and an absent one are fine; a stale partial folder is emptied.
+        let old = dir.path().join("old");
+        std::fs::create_dir(&old).unwrap();
+        std::fs::write(old.join("sweep.json"), b"{}").unwrap();
+        let stale = partial_path(&old);
+        std::fs::create_dir(&stale).unwrap();
+        std::fs::write(stale.join("leftover"), b"x").unwrap();
+        prepare(&old, &stale).unwrap();
+        assert!(stale.is_dir() && std::fs::read_dir(&stale).unwrap().next().is_none());
+        prepare(
+            &dir.path().join("new"),
+            &partial_path(&dir.path().join("new")),
+        )
+        .unwrap();
+    }
+}
