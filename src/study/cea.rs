@@ -3,6 +3,7 @@
 //! report shared with the brake study.
 
 use super::report::{collective, create_dir, json_for, write_file};
+use super::staging::staged;
 use super::StudyError;
 use crate::analysis::cea::{self, CeaOptions, ComplexMode};
 use crate::analysis::operators::matrix_from_entries;
@@ -89,8 +90,6 @@ struct MatrixModel {
 /// Runs `squeal cea` on matrix files (collective); rank 0 prints and writes.
 pub fn run(rt: &Runtime, args: &CeaArgs) -> Result<(), StudyError> {
     let comm = rt.world();
-    let root = comm.rank() == 0;
-    let started = Instant::now();
     // Every rank has the same flags: the same refusal everywhere, before any reading.
     let flags = [
         ("--fmax", cea::band_problem(args.max_frequency_hz)),
@@ -106,6 +105,21 @@ pub fn run(rt: &Runtime, args: &CeaArgs) -> Result<(), StudyError> {
     if let Some((flag, Some(why))) = flags.into_iter().find(|(_, why)| why.is_some()) {
         return Err(StudyError::BadFlag { flag, why }.collective());
     }
+    let summary = staged(comm, &args.output, |dir| solve_and_write(comm, args, dir))?;
+    if let Some(line) = summary {
+        println!("{line}; results in {}", args.output.display());
+    }
+    Ok(())
+}
+
+/// Reads, checks, solves and (rank 0) writes into `dir`; rank 0 returns the closing line.
+fn solve_and_write(
+    comm: crate::petsc::Comm,
+    args: &CeaArgs,
+    dir: &Path,
+) -> Result<Option<String>, StudyError> {
+    let root = comm.rank() == 0;
+    let started = Instant::now();
     let set = collective(
         comm,
         matrix::read_pair(&args.stiffness, &args.mass, args.damping.as_deref()).and_then(|set| {
@@ -146,15 +160,14 @@ pub fn run(rt: &Runtime, args: &CeaArgs) -> Result<(), StudyError> {
             equations: n,
             ranks: comm.size(),
         };
-        write_report(&args.output, &modes, args.max_frequency_hz, model)?;
-        println!(
-            "{} modes below {} Hz, {} unstable, in {:.1} s; results in {}",
+        write_report(dir, &modes, args.max_frequency_hz, model)?;
+        return Ok(Some(format!(
+            "{} modes below {} Hz, {} unstable, in {:.1} s",
             modes.len(),
             args.max_frequency_hz,
             modes.iter().filter(|m| m.unstable).count(),
-            started.elapsed().as_secs_f64(),
-            args.output.display()
-        );
+            started.elapsed().as_secs_f64()
+        )));
     }
-    Ok(())
+    Ok(None)
 }

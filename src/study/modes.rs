@@ -2,6 +2,7 @@
 //! CSV and a VTU file with every mode shape.
 
 use super::report::{collective, create_dir, json_for, write_file};
+use super::staging::staged;
 use super::StudyError;
 use crate::analysis::modes::{real_modes, ModeBand, ModesOptions, RealMode};
 use crate::analysis::restraint;
@@ -9,7 +10,7 @@ use crate::fem::{assemble, element::MassRule, DofMap, StructureOptions};
 use crate::io::vtu::{Field, VtuWriter};
 use crate::model::{source, Model, ModelError};
 use crate::petsc::Runtime;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 /// What `squeal modes` was asked.
@@ -74,8 +75,6 @@ pub struct ModelSummary {
 /// Runs `squeal modes` (collective); rank 0 prints and writes.
 pub fn run(rt: &Runtime, args: &ModesArgs) -> Result<(), StudyError> {
     let comm = rt.world();
-    let root = comm.rank() == 0;
-    let started = Instant::now();
     if let Some(why) = args
         .max_frequency_hz
         .and_then(crate::analysis::cea::band_problem)
@@ -86,6 +85,14 @@ pub fn run(rt: &Runtime, args: &ModesArgs) -> Result<(), StudyError> {
         }
         .collective());
     }
+    staged(comm, &args.output, |dir| solve_and_write(rt, args, dir))
+}
+
+/// Loads, solves and (rank 0) writes into `dir`. Collective.
+fn solve_and_write(rt: &Runtime, args: &ModesArgs, dir: &Path) -> Result<(), StudyError> {
+    let comm = rt.world();
+    let root = comm.rank() == 0;
+    let started = Instant::now();
     let model = load_model(
         rt,
         args.mesh.as_deref(),
@@ -189,7 +196,7 @@ pub fn run(rt: &Runtime, args: &ModesArgs) -> Result<(), StudyError> {
             .collect(),
         supports: model.supports.iter().map(|s| s.name.clone()).collect(),
     };
-    write_outputs(args, &model, &dofs, &solution.modes, &shapes, summary)?;
+    write_outputs(dir, &model, &dofs, &solution.modes, &shapes, summary)?;
     println!(
         "{} modes ({:?}) in {:.1} s; results in {}",
         solution.modes.len(),
@@ -201,14 +208,13 @@ pub fn run(rt: &Runtime, args: &ModesArgs) -> Result<(), StudyError> {
 }
 
 fn write_outputs(
-    args: &ModesArgs,
+    out: &Path,
     model: &Model,
     dofs: &DofMap,
     modes: &[RealMode],
     shapes: &[Vec<f64>],
     summary: ModelSummary,
 ) -> Result<(), StudyError> {
-    let out = &args.output;
     let json_path = out.join("modes.json");
     let json = json_for(
         &json_path,

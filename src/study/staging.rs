@@ -19,8 +19,11 @@ fn written_by_squeal(name: &str, is_dir: bool) -> bool {
     if is_dir {
         return name.starts_with("mu_");
     }
-    const FILES: [&str; 8] = [
+    const FILES: [&str; 11] = [
         "sweep.json",
+        "modes.json",
+        "modes.csv",
+        "modes.vtu",
         "cea.json",
         "cea.csv",
         "cea.vtu",
@@ -111,6 +114,28 @@ impl Staging {
     }
 }
 
+/// Runs `work` on the staging folder of `output` and puts it in place when every rank
+/// succeeded; removes it otherwise (the error is made collective first, so that no rank
+/// publishes while another abandons). Collective.
+pub fn staged<T>(
+    comm: Comm,
+    output: &Path,
+    work: impl FnOnce(&Path) -> Result<T, StudyError>,
+) -> Result<T, StudyError> {
+    let staging = Staging::begin(comm, output)?;
+    match collective(comm, work(staging.path())) {
+        Ok(value) => {
+            let published = staging.publish(comm);
+            collective(comm, published)?;
+            Ok(value)
+        }
+        Err(e) => {
+            staging.abandon(comm);
+            Err(e)
+        }
+    }
+}
+
 /// Rank 0's checks: the output is absent, an empty folder or a squeal result folder; the
 /// staging folder can be made.
 fn prepare(output: &Path, partial: &Path) -> Result<(), StudyError> {
@@ -128,9 +153,10 @@ fn prepare(output: &Path, partial: &Path) -> Result<(), StudyError> {
                 let is_dir = entry.file_type().is_ok_and(|t| t.is_dir());
                 let name = entry.file_name().to_string_lossy().into_owned();
                 if !written_by_squeal(&name, is_dir) {
+                    let kind = if is_dir { "a folder" } else { "a file" };
                     return Err(not_results(&format!(
-                        "it holds '{name}', which no squeal run writes, and a new run replaces \
-                         the whole folder"
+                        "it holds {kind} '{name}', which no squeal run writes there, and a new \
+                         run replaces the whole folder"
                     )));
                 }
             }
@@ -171,7 +197,10 @@ mod tests {
         std::fs::create_dir(&foreign).unwrap();
         std::fs::write(foreign.join("chapter1.tex"), b"x").unwrap();
         let e = prepare(&foreign, &partial_path(&foreign)).unwrap_err();
-        assert!(e.to_string().contains("it holds 'chapter1.tex'"), "{e}");
+        assert!(
+            e.to_string().contains("it holds a file 'chapter1.tex'"),
+            "{e}"
+        );
         // A result folder and an absent one are fine; a stale partial folder is emptied.
         let old = dir.path().join("old");
         std::fs::create_dir(&old).unwrap();

@@ -19,7 +19,7 @@ pub use superelement::{SuperElementModel, SuperElementSettings};
 use super::config::{ReductionSpec, Study};
 use super::interrupt;
 use super::report::{collective, write_file};
-use super::staging::Staging;
+use super::staging::staged;
 use super::StudyError;
 use crate::analysis::cea::ComplexMode;
 use crate::analysis::tracking::{self, Instability, SweepPoint, TrackingOptions};
@@ -326,21 +326,15 @@ pub fn sweep<'rt>(
     plan: &SweepPlan,
 ) -> Result<SweepSummary, StudyError> {
     let started = Instant::now();
-    let staging = Staging::begin(comm, &plan.output)?;
-    let staged = SweepPlan {
-        output: staging.path().to_path_buf(),
-        ..plan.clone()
-    };
-    let summary = match sweep_into(comm, model, &staged, &plan.output) {
-        Ok(summary) => summary,
-        Err(e) => {
-            staging.abandon(comm);
-            return Err(e);
-        }
-    };
-    let published = staging.publish(comm);
+    let summary = staged(comm, &plan.output, |dir| {
+        let staged = SweepPlan {
+            output: dir.to_path_buf(),
+            ..plan.clone()
+        };
+        sweep_into(comm, model, &staged, &plan.output)
+    });
     interrupt::clear();
-    collective(comm, published)?;
+    let summary = summary?;
     if comm.rank() == 0 {
         println!(
             "{} friction values in {:.1} s; results in {}",
