@@ -14,7 +14,7 @@ use squeal::fem::element::MassRule;
 use squeal::model::{self, Model, Operators};
 use squeal::petsc::{DenseMatrix, Runtime};
 use squeal::reduce::{
-    build_with_basis, reduce_interface, CraigBampton, GridSize, InterfaceSettings,
+    build_with_basis, reduce_interface, BuildSettings, CraigBampton, GridSize, InterfaceSettings,
     ReducedInterface, SuperElementError,
 };
 use squeal::study::config::Study;
@@ -116,8 +116,11 @@ fn build<'rt>(s: &Setup<'rt>, rt: &'rt Runtime, cutoff: f64) -> Result<CraigBamp
         &s.operators,
         s.configuration(),
         &s.swept,
-        FRICTION,
-        cutoff,
+        &BuildSettings {
+            friction: FRICTION,
+            cutoff_hz: cutoff,
+            interior_modes_hint: None,
+        },
     )
     .map_err(e)?;
     if rt.world().rank() == 0 {
@@ -363,8 +366,11 @@ fn refuses_bad_input(rt: &Runtime, s: &Setup) -> Result<(), String> {
             &s.operators,
             s.configuration(),
             swept,
-            FRICTION,
-            cutoff,
+            &BuildSettings {
+                friction: FRICTION,
+                cutoff_hz: cutoff,
+                interior_modes_hint: None,
+            },
         )
         .err()
     };

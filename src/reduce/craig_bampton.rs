@@ -153,6 +153,19 @@ pub struct CraigBampton<'rt> {
     pub boundary_points: Vec<(usize, usize)>,
 }
 
+/// What a super-element is made with besides its model and equilibrium.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BuildSettings {
+    /// The swept pairs' mu at the equilibrium (for the header).
+    pub friction: f64,
+    /// Fixed-interface modes up to this frequency.
+    pub cutoff_hz: f64,
+    /// How many fixed-interface modes a super-element of the same model had (the previous
+    /// one of a sweep): the unsymmetric interior's eigensolve then covers the band in one
+    /// shift instead of several. A wrong hint costs time, never modes.
+    pub interior_modes_hint: Option<usize>,
+}
+
 /// [`build_superelement`], keeping the basis T. Collective.
 pub fn build_with_basis<'rt>(
     comm: Comm<'rt>,
@@ -160,18 +173,9 @@ pub fn build_with_basis<'rt>(
     operators: &Operators<'rt>,
     equilibrium: Configuration<'_>,
     swept: &[usize],
-    friction: f64,
-    cutoff_hz: f64,
+    settings: &BuildSettings,
 ) -> Result<CraigBampton<'rt>, SuperElementError> {
-    build(
-        comm,
-        reduced,
-        operators,
-        equilibrium,
-        swept,
-        friction,
-        cutoff_hz,
-    )
+    build(comm, reduced, operators, equilibrium, swept, settings)
 }
 
 /// Builds the super-element of `reduced` at `equilibrium` (displacements of every node, mesh
@@ -188,16 +192,12 @@ pub fn build_superelement<'rt>(
     friction: f64,
     cutoff_hz: f64,
 ) -> Result<SuperElement, SuperElementError> {
-    build(
-        comm,
-        reduced,
-        operators,
-        equilibrium,
-        swept,
+    let settings = BuildSettings {
         friction,
         cutoff_hz,
-    )
-    .map(|b| b.superelement)
+        interior_modes_hint: None,
+    };
+    build(comm, reduced, operators, equilibrium, swept, &settings).map(|b| b.superelement)
 }
 
 fn build<'rt>(
@@ -206,9 +206,13 @@ fn build<'rt>(
     operators: &Operators<'rt>,
     equilibrium: Configuration<'_>,
     swept: &[usize],
-    friction: f64,
-    cutoff_hz: f64,
+    settings: &BuildSettings,
 ) -> Result<CraigBampton<'rt>, SuperElementError> {
+    let BuildSettings {
+        friction,
+        cutoff_hz,
+        interior_modes_hint,
+    } = *settings;
     let model = &reduced.model;
     let Configuration {
         displacement: equilibrium,
@@ -352,7 +356,7 @@ fn build<'rt>(
         (shapes, n)
     } else {
         drop(factored);
-        let (shapes, n) = unsymmetric_modes(comm, &k_ii, &m_ii, cutoff_hz)?;
+        let (shapes, n) = unsymmetric_modes(comm, &k_ii, &m_ii, cutoff_hz, interior_modes_hint)?;
         (shapes, n)
     };
     let n_m = shapes.len();
@@ -532,6 +536,7 @@ fn unsymmetric_modes<'rt>(
     k_ii: &Matrix<'rt>,
     m_ii: &Matrix<'rt>,
     cutoff_hz: f64,
+    expected: Option<usize>,
 ) -> Result<(Vec<Vec<f64>>, usize), SuperElementError> {
     let found = cea::undamped(
         comm,
@@ -539,6 +544,7 @@ fn unsymmetric_modes<'rt>(
         m_ii,
         &CeaOptions {
             max_frequency_hz: cutoff_hz,
+            expected_modes: expected,
             ..Default::default()
         },
     )?;

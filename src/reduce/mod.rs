@@ -40,7 +40,9 @@ pub use coupling::{
     couple_grid, couple_points, distributing_coupling, CouplingNode, DistributingCoupling,
     Weighting,
 };
-pub use craig_bampton::{build_superelement, build_with_basis, CraigBampton, SuperElementError};
+pub use craig_bampton::{
+    build_superelement, build_with_basis, BuildSettings, CraigBampton, SuperElementError,
+};
 pub use error::ReduceError;
 pub use grid::{isometric_grid, ContactGrid, GridSize, MeanPlane, ReducedNode};
 pub use interface::{

@@ -186,8 +186,11 @@ impl<'rt> SuperElementModel<'rt> {
             self.base.operators(),
             equilibrium.configuration(),
             &self.swept,
-            mu,
-            self.settings.cutoff_hz,
+            &reduce::BuildSettings {
+                friction: mu,
+                cutoff_hz: self.settings.cutoff_hz,
+                interior_modes_hint: self.current.as_ref().map(|c| c.se.header.modes),
+            },
         )
         .map_err(|source| StudyError::SuperElement { mu, source })?;
         let basis = LocalBasis::from_dense(&cb.basis)?;
