@@ -467,21 +467,10 @@ fn a_floating_caliper_superelement_holds_its_equilibrium_and_the_instabilities()
     assert_eq!(info["dense_static_iterations"].as_u64(), Some(0), "{info}");
     let start = info["start_residual"].as_f64().unwrap();
     assert!(start < 1e-8, "start residual {start:e}");
-    let modes = |p: &serde_json::Value| -> Vec<(f64, f64, bool)> {
-        p["eigenvalues"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .map(|m| {
-                (
-                    m["frequency_hz"].as_f64().unwrap(),
-                    m["real_part"].as_f64().unwrap(),
-                    m["unstable"].as_bool().unwrap(),
-                )
-            })
-            .collect()
-    };
-    let (r, s) = (modes(&reference), modes(&se));
+    let (r, s) = (
+        common::eigenvalues_of(&reference),
+        common::eigenvalues_of(&se),
+    );
     // The same modes (30, the lowest at 376.5 Hz): no spurious ones near 0 Hz.
     assert_eq!(r.len(), s.len(), "{r:?}\nagainst\n{s:?}");
     assert!(s.iter().all(|m| m.0 > 300.0), "{s:?}");

@@ -33,18 +33,7 @@ fn write_mtx(path: &Path, entries: &[(usize, usize, f64)]) {
 fn eigenvalues(dir: &Path) -> Vec<(f64, f64, bool)> {
     let json: serde_json::Value =
         serde_json::from_slice(&std::fs::read(dir.join("cea.json")).unwrap()).unwrap();
-    json["eigenvalues"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|m| {
-            (
-                m["frequency_hz"].as_f64().unwrap(),
-                m["real_part"].as_f64().unwrap(),
-                m["unstable"].as_bool().unwrap(),
-            )
-        })
-        .collect()
+    common::eigenvalues_of(&json)
 }
 
 /// The mode-coupling model as Matrix Market files: M = I, K = [[2, 1 - D], [1, 2]].

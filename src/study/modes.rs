@@ -85,11 +85,20 @@ pub fn run(rt: &Runtime, args: &ModesArgs) -> Result<(), StudyError> {
         }
         .collective());
     }
-    staged(comm, &args.output, |dir| solve_and_write(rt, args, dir))
+    let summary = staged(comm, &args.output, |dir| solve_and_write(rt, args, dir))?;
+    if let Some(line) = summary {
+        println!("{line}; results in {}", args.output.display());
+    }
+    Ok(())
 }
 
-/// Loads, solves and (rank 0) writes into `dir`. Collective.
-fn solve_and_write(rt: &Runtime, args: &ModesArgs, dir: &Path) -> Result<(), StudyError> {
+/// Loads, solves and (rank 0) writes into `dir`; rank 0 returns the closing line.
+/// Collective.
+fn solve_and_write(
+    rt: &Runtime,
+    args: &ModesArgs,
+    dir: &Path,
+) -> Result<Option<String>, StudyError> {
     let comm = rt.world();
     let root = comm.rank() == 0;
     let started = Instant::now();
@@ -179,7 +188,7 @@ fn solve_and_write(rt: &Runtime, args: &ModesArgs, dir: &Path) -> Result<(), Stu
         shapes.push(s.gather_to_zero()?);
     }
     if !root {
-        return Ok(());
+        return Ok(None);
     }
     print!("{}", table(&solution.modes));
     let summary = ModelSummary {
@@ -197,14 +206,12 @@ fn solve_and_write(rt: &Runtime, args: &ModesArgs, dir: &Path) -> Result<(), Stu
         supports: model.supports.iter().map(|s| s.name.clone()).collect(),
     };
     write_outputs(dir, &model, &dofs, &solution.modes, &shapes, summary)?;
-    println!(
-        "{} modes ({:?}) in {:.1} s; results in {}",
+    Ok(Some(format!(
+        "{} modes ({:?}) in {:.1} s",
         solution.modes.len(),
         band,
-        started.elapsed().as_secs_f64(),
-        args.output.display()
-    );
-    Ok(())
+        started.elapsed().as_secs_f64()
+    )))
 }
 
 fn write_outputs(

@@ -73,11 +73,6 @@ impl Staging {
         &self.partial
     }
 
-    /// The output folder the run will replace.
-    pub fn output(&self) -> &Path {
-        &self.output
-    }
-
     /// Puts the finished folder in place of the output (rank 0; the others return). The
     /// previous results go to `<output>.previous` for the moment between the two renames,
     /// so that the output path holds one whole run at every instant but that one.
@@ -96,8 +91,13 @@ impl Staging {
             std::fs::rename(&self.output, &previous)
                 .map_err(|source| StudyError::write(&self.output, source))?;
         }
-        std::fs::rename(&self.partial, &self.output)
-            .map_err(|source| StudyError::write(&self.output, source))?;
+        if let Err(source) = std::fs::rename(&self.partial, &self.output) {
+            // Put the previous results back rather than leave the output path empty.
+            if previous.exists() {
+                let _ = std::fs::rename(&previous, &self.output);
+            }
+            return Err(StudyError::write(&self.output, source));
+        }
         if previous.exists() {
             std::fs::remove_dir_all(&previous)
                 .map_err(|source| StudyError::write(&previous, source))?;

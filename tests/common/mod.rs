@@ -57,6 +57,23 @@ pub fn mpirun_spawn(
     (child, session)
 }
 
+/// (frequency Hz, real part 1/s, unstable) of each entry of a result's `eigenvalues` array
+/// (a `cea.json`, or a point of a `sweep.json`).
+pub fn eigenvalues_of(json: &serde_json::Value) -> Vec<(f64, f64, bool)> {
+    json["eigenvalues"]
+        .as_array()
+        .expect("an eigenvalues array")
+        .iter()
+        .map(|m| {
+            (
+                m["frequency_hz"].as_f64().unwrap(),
+                m["real_part"].as_f64().unwrap(),
+                m["unstable"].as_bool().unwrap(),
+            )
+        })
+        .collect()
+}
+
 /// Whether the job was killed by the hang limit (`timeout` exits 124).
 pub fn hung(out: &Output) -> bool {
     out.status.code() == Some(124)

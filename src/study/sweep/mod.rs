@@ -319,7 +319,7 @@ pub fn run(rt: &Runtime, study: &Study, file: &str) -> Result<SweepSummary, Stud
 
 /// The friction sweep of any model (collective); rank 0 prints and writes. The results
 /// are written into `<output>.partial` and replace the output folder only when whole
-/// ([`Staging`]).
+/// ([`super::staging`]).
 pub fn sweep<'rt>(
     comm: Comm<'rt>,
     model: &mut dyn FrictionModel<'rt>,
