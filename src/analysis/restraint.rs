@@ -223,6 +223,7 @@ pub fn free_bodies<'rt>(
     // The tested bodies and the scaled images K r / reference of their six motions (this
     // rank's rows), body-major.
     let mut tested: Vec<&Body> = Vec::new();
+    let mut references: Vec<f64> = Vec::new();
     let mut images: Vec<Vec<f64>> = Vec::new();
     for body in bodies {
         let scale = body.size.max(f64::MIN_POSITIVE);
@@ -276,6 +277,7 @@ pub fn free_bodies<'rt>(
             images.push(y.read()?.iter().map(|v| v / reference).collect());
         }
         tested.push(body);
+        references.push(reference);
     }
     let m = images.len();
     if m == 0 {
@@ -300,13 +302,47 @@ pub fn free_bodies<'rt>(
     if null.is_empty() {
         return Ok(Vec::new());
     }
+    // A null vector x holds each body's motion times its reference (sum_a x_a K r_a / ref_a
+    // = 0 is the displacement u = sum_a (x_a / ref_a) r_a): a soft body moving with a stiff
+    // one has coefficients ref_soft / ref_stiff of the stiff body's, and with steel on
+    // rubber its share would fall below any fixed threshold. Who moves, and how, is read
+    // off the amplitudes x_a / ref_a (dimensionless: the rotations are scaled by the body's
+    // size), orthonormalised.
+    let amplitudes = orthonormal(
+        &null
+            .iter()
+            .map(|(_, x)| {
+                x.iter()
+                    .enumerate()
+                    .map(|(i, v)| v / references[i / 6])
+                    .collect()
+            })
+            .collect::<Vec<Vec<f64>>>(),
+    );
+    // Each free motion's level beside its amplitude direction (unit length).
+    let unit = |x: &Vec<f64>| -> Vec<f64> {
+        let y: Vec<f64> = x
+            .iter()
+            .enumerate()
+            .map(|(i, v)| v / references[i / 6])
+            .collect();
+        let norm = y
+            .iter()
+            .map(|v| v * v)
+            .sum::<f64>()
+            .sqrt()
+            .max(f64::MIN_POSITIVE);
+        y.iter().map(|v| v / norm).collect()
+    };
+    let levels: Vec<(f64, Vec<f64>)> = null.iter().map(|(l, x)| (*l, unit(x))).collect();
+    let null: Vec<&Vec<f64>> = amplitudes.iter().collect();
     // The projector P = N N^T onto the free motions, by 6x6 blocks between bodies.
     let n_bodies = tested.len();
     let block = |b: usize, c: usize| -> f64 {
         let mut sum = 0.0;
         for i in 6 * b..6 * b + 6 {
             for j in 6 * c..6 * c + 6 {
-                let p: f64 = null.iter().map(|(_, x)| x[i] * x[j]).sum();
+                let p: f64 = null.iter().map(|x| x[i] * x[j]).sum();
                 sum += p * p;
             }
         }
@@ -350,7 +386,7 @@ pub fn free_bodies<'rt>(
                 .map(|&c| x[6 * c..6 * c + 6].iter().map(|v| v * v).sum::<f64>())
                 .sum()
         };
-        let level = null
+        let level = levels
             .iter()
             .filter(|(_, x)| share(x) > 0.5)
             .map(|(level, _)| *level)
@@ -362,7 +398,7 @@ pub fn free_bodies<'rt>(
             .max_by(|&&c, &&d| block(c, c).total_cmp(&block(d, d)))
             .expect("a group has a member");
         let mut own = [[0.0; 6]; 6];
-        for (_, x) in &null {
+        for x in &null {
             for i in 0..6 {
                 for j in 0..6 {
                     own[i][j] += x[6 * lead + i] * x[6 * lead + j];
@@ -389,6 +425,28 @@ pub fn free_bodies<'rt>(
         });
     }
     Ok(free)
+}
+
+/// An orthonormal basis of the span of `vectors` (modified Gram-Schmidt, twice: the
+/// amplitudes of motions of bodies of very different stiffness can be far from orthogonal);
+/// a vector already in the span of the others (below 1e-10 of its length) is dropped.
+fn orthonormal(vectors: &[Vec<f64>]) -> Vec<Vec<f64>> {
+    let mut basis: Vec<Vec<f64>> = Vec::new();
+    for v in vectors {
+        let length = v.iter().map(|x| x * x).sum::<f64>().sqrt();
+        let mut w = v.clone();
+        for _ in 0..2 {
+            for b in &basis {
+                let dot: f64 = w.iter().zip(b).map(|(x, y)| x * y).sum();
+                w.iter_mut().zip(b).for_each(|(x, y)| *x -= dot * y);
+            }
+        }
+        let norm = w.iter().map(|x| x * x).sum::<f64>().sqrt();
+        if norm > 1e-10 * length {
+            basis.push(w.iter().map(|x| x / norm).collect());
+        }
+    }
+    basis
 }
 
 /// Eigenvalues (ascending) and unit eigenvectors of the symmetric `n x n` matrix `a(i, j)`.
