@@ -141,6 +141,30 @@ enum Command {
         #[arg(long)]
         k_cubic: Option<f64>,
     },
+    /// The whole comparison in one command: the full model's friction sweep, the
+    /// reduced-interface sweeps and super-element strategies of the study's [comparison],
+    /// then the comparisons, and report.md / report.html. Each stage is cached by a key of
+    /// what it depends on: a rerun recomputes only what changed, or what an interruption
+    /// left unfinished. The built-in brake study when given no file.
+    Study {
+        /// A study file (TOML); the built-in brake study when absent.
+        study: Option<PathBuf>,
+        /// Built-in brake preset (when no study file, or to override its preset).
+        #[arg(long)]
+        preset: Option<String>,
+        /// Friction values, e.g. 0.1,0.3,0.5 (default 0.1 to 0.9 by 0.1).
+        #[arg(long, value_delimiter = ',')]
+        friction: Option<Vec<f64>>,
+        /// Every mode from 0 up to this frequency (Hz).
+        #[arg(long)]
+        fmax: Option<f64>,
+        /// Output folder (one folder per stage inside, and the report).
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+        /// Write the study, its [comparison] plan filled in, to this TOML file and stop.
+        #[arg(long)]
+        write_study: Option<PathBuf>,
+    },
     /// Real modes (K phi = omega^2 M phi) of a mesh file or of the built-in brake.
     Modes {
         /// A .msh or .inp file; the built-in brake when absent. An .inp deck's *FREQUENCY
@@ -502,6 +526,24 @@ fn main() -> ExitCode {
                 write_study.as_deref(),
             )?)
         }),
+        Command::Study {
+            study,
+            preset,
+            friction,
+            fmax,
+            output,
+            write_study,
+        } => {
+            let args = study::sweep::SweepArgs {
+                preset,
+                friction,
+                max_frequency_hz: fmax,
+                output,
+                ..Default::default()
+            };
+            study::pipeline::run_command(&rt, study.as_deref(), args, write_study.as_deref())
+                .map_err(Into::into)
+        }
         Command::Mesh {
             mesh,
             preset,

@@ -42,6 +42,14 @@ pub fn mesh_hash(m: &Mesh) -> String {
     format!("{:016x}", all.0)
 }
 
+/// The FNV-1a hash of a file's bytes, as 16 hex digits.
+pub fn bytes_hash(bytes: &[u8]) -> String {
+    let mut h = Fnv::new();
+    h.usize(bytes.len());
+    h.bytes(bytes);
+    format!("{:016x}", h.0)
+}
+
 /// The FNV-1a hash of a text (a study written out), as 16 hex digits.
 pub fn text_hash(text: &str) -> String {
     let mut h = Fnv::new();

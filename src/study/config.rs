@@ -37,6 +37,10 @@ pub struct Study {
     /// A reduced contact interface in place of the swept pairs (absent: the full model).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub reduction: Option<ReductionSpec>,
+    /// What `squeal study` compares with the full model: the reduced interfaces and the
+    /// super-element strategies (absent: [`ComparisonSpec::default`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub comparison: Option<ComparisonSpec>,
     /// Output folder.
     #[serde(default = "default_output")]
     pub output: PathBuf,
@@ -147,6 +151,90 @@ pub struct ReductionSpec {
     /// k_nl of the cubic contact law (N/m^3); default 0 (linear).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub k_cubic: Option<f64>,
+}
+
+/// The models `squeal study` compares with the full one (the paper's sections 4.2-4.4): a
+/// reduced-interface model per grid size, and super-elements built on one of them with each
+/// strategy. The other settings of the reduced interface and of the super-elements
+/// (weighting, radius, cut-off, contact law, mu_SE) come from the study's `[reduction]`.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ComparisonSpec {
+    /// Reduced contact nodes per pad of each reduced-interface model (the paper's 6, 22, 52,
+    /// 106); empty: none.
+    #[serde(default = "default_grids")]
+    pub contact_nodes_per_pad: Vec<usize>,
+    /// Super-element strategies to sweep ("single", "per-friction", "adaptive"); empty: none.
+    #[serde(default = "all_strategies")]
+    pub superelements: Vec<Strategy>,
+    /// The reduced interface the super-elements are built on (default: the finest of
+    /// `contact_nodes_per_pad`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub superelement_contact_nodes_per_pad: Option<usize>,
+}
+
+fn default_grids() -> Vec<usize> {
+    vec![22, 52]
+}
+fn all_strategies() -> Vec<Strategy> {
+    vec![Strategy::Single, Strategy::PerFriction, Strategy::Adaptive]
+}
+
+impl Default for ComparisonSpec {
+    fn default() -> Self {
+        ComparisonSpec {
+            contact_nodes_per_pad: default_grids(),
+            superelements: all_strategies(),
+            superelement_contact_nodes_per_pad: None,
+        }
+    }
+}
+
+impl ComparisonSpec {
+    /// The grid the super-elements are built on, if any are asked for.
+    pub fn superelement_grid(&self) -> Option<usize> {
+        if self.superelements.is_empty() {
+            return None;
+        }
+        self.superelement_contact_nodes_per_pad
+            .or_else(|| self.contact_nodes_per_pad.iter().copied().max())
+    }
+
+    fn check(&self, bad: impl Fn(String, String) -> ConfigError) -> Result<(), ConfigError> {
+        for (i, &n) in self.contact_nodes_per_pad.iter().enumerate() {
+            if n == 0 {
+                return Err(bad(
+                    format!("comparison.contact_nodes_per_pad[{i}]"),
+                    "must be at least 1".into(),
+                ));
+            }
+            if self.contact_nodes_per_pad[..i].contains(&n) {
+                return Err(bad(
+                    format!("comparison.contact_nodes_per_pad[{i}]"),
+                    format!("{n} is given twice"),
+                ));
+            }
+        }
+        for (i, s) in self.superelements.iter().enumerate() {
+            if self.superelements[..i].contains(s) {
+                return Err(bad(
+                    format!("comparison.superelements[{i}]"),
+                    format!("\"{}\" is given twice", s.name()),
+                ));
+            }
+        }
+        match (self.superelements.is_empty(), self.superelement_grid()) {
+            (false, None) => Err(bad(
+                "comparison.superelement_contact_nodes_per_pad".into(),
+                "super-elements are built on a reduced interface: give its size here or in contact_nodes_per_pad".into(),
+            )),
+            (false, Some(0)) => Err(bad(
+                "comparison.superelement_contact_nodes_per_pad".into(),
+                "must be at least 1".into(),
+            )),
+            _ => Ok(()),
+        }
+    }
 }
 
 fn cubic() -> Weighting {
@@ -327,6 +415,7 @@ impl Study {
             contacts: ["inboard", "outboard"].map(disc_pad_pair).to_vec(),
             analysis: AnalysisSpec::default(),
             reduction: None,
+            comparison: None,
             output: default_output(),
         }
     }
@@ -447,6 +536,7 @@ impl Study {
             contacts,
             analysis: AnalysisSpec::default(),
             reduction: None,
+            comparison: None,
             output: default_output(),
         }
     }
@@ -496,6 +586,9 @@ impl Study {
                 "mesh".into(),
                 "give either file or the built-in brake (preset/brake), not both".into(),
             ));
+        }
+        if let Some(c) = &self.comparison {
+            c.check(bad)?;
         }
         if let Some(r) = &self.reduction {
             match (r.contact_nodes_per_pad, r.spacing) {
@@ -551,7 +644,12 @@ impl Study {
             positive("cutoff_frequency_hz", r.cutoff_frequency_hz, false)?;
             positive("k_linear", r.k_linear, false)?;
             positive("k_cubic", r.k_cubic, true)?;
-            if r.superelements.is_none() {
+            // `squeal study` sweeps the strategies of [comparison] with these settings.
+            let compared = self
+                .comparison
+                .as_ref()
+                .is_some_and(|c| !c.superelements.is_empty());
+            if r.superelements.is_none() && !compared {
                 let set: Vec<&str> = [
                     ("superelement_friction", r.superelement_friction.is_some()),
                     ("cutoff_frequency_hz", r.cutoff_frequency_hz.is_some()),
@@ -564,7 +662,7 @@ impl Study {
                 if let Some(key) = set.first() {
                     return Err(bad(
                         format!("reduction.{key}"),
-                        "is a super-element setting: give reduction.superelements = \"single\", \"per-friction\" or \"adaptive\" too".into(),
+                        "is a super-element setting: give reduction.superelements = \"single\", \"per-friction\" or \"adaptive\" too (or comparison.superelements for squeal study)".into(),
                     ));
                 }
             }

@@ -146,6 +146,16 @@ pub enum StudyError {
     /// `squeal compare`: reading the sweeps or writing the comparison; names the file.
     #[error(transparent)]
     Compare(#[from] CompareError),
+    /// A file a study reads (a mesh file to hash, a stage's result for the report).
+    #[error("reading {}: {source}", path.display())]
+    Read {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    /// A stage's result that the study report reads is not what squeal writes there.
+    #[error("{}: {message}", path.display())]
+    ReportInput { path: PathBuf, message: String },
     /// An output folder cannot be made.
     #[error("creating {}: {source}", path.display())]
     CreateDir {

@@ -1,0 +1,180 @@
+//! `squeal study`: from a brake model to the full-versus-reduced report in one command. It
+//! runs the stages of [`stage::plan`] in order under MPI (the full model's sweep, the
+//! reduced-interface sweeps, the super-element strategies, the comparisons), each into its
+//! own folder under the study's output, and ends with `report.md` and `report.html`.
+//!
+//! Cache and resume, by stage: each stage's key (see [`stage`]) is recorded beside its
+//! folder once the stage is whole (`<stage>.stage.json`). A rerun skips every stage whose
+//! record holds the same key, so a run stopped by Ctrl-C, SIGTERM or a crash resumes at the
+//! stage it stopped in, and a changed study key recomputes only the stages it affects. A
+//! stage is never half-written: sweeps stage their folder (`<stage>.partial`, see
+//! [`crate::study::staging`]), and the record is removed before a stage runs and written
+//! only after it is whole. Within an interrupted sweep the finished friction values are
+//! recomputed: a point's equilibrium starts from the previous one's (with the Coulomb slip
+//! history), which a resumed sweep would have to restore first.
+
+mod record;
+pub mod report;
+pub mod stage;
+
+use crate::petsc::Runtime;
+use crate::study::compare;
+use crate::study::report::collective;
+use crate::study::sweep::{self, SweepArgs};
+use crate::study::StudyError;
+use record::StageRecord;
+use stage::{Stage, Work};
+use std::path::Path;
+use std::time::Instant;
+
+/// How one stage went in this run.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Outcome {
+    /// Its recorded result was reused (the run that made it took this long).
+    Cached { seconds: f64 },
+    /// Computed now, in this many seconds.
+    Computed { seconds: f64 },
+}
+
+impl Outcome {
+    pub fn seconds(&self) -> f64 {
+        match self {
+            Outcome::Cached { seconds } | Outcome::Computed { seconds } => *seconds,
+        }
+    }
+}
+
+/// `squeal study`: the study file (or the built-in study) with the command line's changes,
+/// run stage by stage. Collective; rank 0 prints and writes.
+pub fn run_command(
+    rt: &Runtime,
+    file: Option<&Path>,
+    args: SweepArgs,
+    write_study: Option<&Path>,
+) -> Result<(), StudyError> {
+    let comm = rt.world();
+    let (mut study, name) = sweep::study_from_args(comm, file, args)?;
+    // The plan is part of the study a user edits: written out whole, defaults filled in.
+    study.comparison = Some(study.comparison.unwrap_or_default());
+    if let Some(path) = write_study {
+        if comm.rank() == 0 {
+            let text = toml::to_string_pretty(&study)
+                .map_err(|source| StudyError::StudyToml { source })?;
+            crate::study::report::write_file(path, text.as_bytes())?;
+            println!("wrote {}", path.display());
+        }
+        return Ok(());
+    }
+    let mesh_hash = match &study.mesh.file {
+        Some(path) => collective(
+            comm,
+            crate::input_file::read(path)
+                .map(|bytes| crate::mesh::hash::bytes_hash(&bytes))
+                .map_err(|source| StudyError::Read {
+                    path: path.clone(),
+                    source,
+                }),
+        )?,
+        None => String::new(),
+    };
+    let stages = stage::plan(&study, &mesh_hash);
+    let out = study.output.clone();
+    if comm.rank() == 0 {
+        collective(
+            comm,
+            std::fs::create_dir_all(&out).map_err(|e| StudyError::create_dir(&out, e)),
+        )?;
+    } else {
+        collective(comm, Ok::<(), StudyError>(()))?;
+    }
+    let started = Instant::now();
+    let mut outcomes = Vec::new();
+    for (k, stage) in stages.iter().enumerate() {
+        let head = format!("[{}/{}] {}", k + 1, stages.len(), stage.title);
+        let outcome = run_stage(rt, stage, &out, &name, &head)?;
+        outcomes.push(outcome);
+    }
+    if comm.rank() == 0 {
+        let r = report::Report::gather(&study, &name, &stages, &outcomes)?;
+        r.write(&out)?;
+        println!(
+            "\n{}\nstudy finished in {:.1} s ({} of {} stages from the cache); report in {} and {}",
+            r.summary_text(),
+            started.elapsed().as_secs_f64(),
+            outcomes
+                .iter()
+                .filter(|o| matches!(o, Outcome::Cached { .. }))
+                .count(),
+            stages.len(),
+            out.join("report.md").display(),
+            out.join("report.html").display()
+        );
+    }
+    Ok(())
+}
+
+/// One stage: reused when its record holds its key and its result is there, else run (its
+/// record removed first, written once the stage is whole). Collective: rank 0 decides and
+/// every rank follows the same decision.
+fn run_stage(
+    rt: &Runtime,
+    stage: &Stage,
+    out: &Path,
+    study_name: &str,
+    head: &str,
+) -> Result<Outcome, StudyError> {
+    let comm = rt.world();
+    let folder = out.join(&stage.name);
+    let mut cached = vec![0.0, 0.0];
+    if comm.rank() == 0 {
+        if let Some(r) = StageRecord::read(out, &stage.name) {
+            let result = match stage.work {
+                Work::Sweep(_) => "sweep.json",
+                Work::Compare(_) => "compare.json",
+            };
+            if r.key == stage.key && folder.join(result).is_file() {
+                cached = vec![1.0, r.seconds];
+            }
+        }
+    }
+    comm.broadcast_from_root(&mut cached);
+    if cached[0] == 1.0 {
+        if comm.rank() == 0 {
+            println!(
+                "{head}: from the cache (key {}, computed in {:.1} s)",
+                stage.key, cached[1]
+            );
+        }
+        return Ok(Outcome::Cached { seconds: cached[1] });
+    }
+    if comm.rank() == 0 {
+        println!("{head}: running (key {})", stage.key);
+    }
+    let removed = if comm.rank() == 0 {
+        StageRecord::remove(out, &stage.name)
+    } else {
+        Ok(())
+    };
+    collective(comm, removed)?;
+    let t = Instant::now();
+    match &stage.work {
+        Work::Sweep(study) => {
+            sweep::run(rt, study, study_name)?;
+        }
+        Work::Compare(inputs) => {
+            let paths: Vec<_> = inputs.iter().map(|i| out.join(i)).collect();
+            compare::run(rt, &paths[0], &paths[1..], &folder)?;
+        }
+    }
+    let seconds = t.elapsed().as_secs_f64();
+    let written = if comm.rank() == 0 {
+        StageRecord::new(stage, seconds).write(out)
+    } else {
+        Ok(())
+    };
+    collective(comm, written)?;
+    if comm.rank() == 0 {
+        println!("{head}: done in {seconds:.1} s");
+    }
+    Ok(Outcome::Computed { seconds })
+}

@@ -1,0 +1,627 @@
+//! The study report: `report.md` and a self-contained `report.html` (the figures inlined as
+//! SVG, so it opens offline and can be forwarded as one file), made from what the stages
+//! wrote: each sweep's `sweep.json` and each comparison's `compare.json`. The numbers in the
+//! tables are those files' numbers, printed, never recomputed.
+//!
+//! The report is a list of [`Block`]s rendered twice, as Markdown and as HTML, so the two
+//! cannot drift apart.
+
+use super::stage::{Stage, Work};
+use super::Outcome;
+use crate::study::config::Study;
+use crate::study::report::write_file;
+use crate::study::StudyError;
+use serde_json::Value;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+/// A piece of the report.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Block {
+    Heading(usize, String),
+    Paragraph(String),
+    Table {
+        header: Vec<String>,
+        rows: Vec<Vec<String>>,
+    },
+    /// An SVG figure: the path relative to the report, and its caption.
+    Figure(PathBuf, String),
+}
+
+/// The report, in blocks, and the closing summary apart (also printed on screen).
+pub struct Report {
+    pub blocks: Vec<Block>,
+    summary: Vec<String>,
+    /// Where the figures are read from for the HTML.
+    root: PathBuf,
+}
+
+fn read_json(path: &Path) -> Result<Value, StudyError> {
+    let bytes = std::fs::read(path).map_err(|source| StudyError::Read {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    serde_json::from_slice(&bytes).map_err(|e| StudyError::ReportInput {
+        path: path.to_path_buf(),
+        message: e.to_string(),
+    })
+}
+
+fn f(v: &Value) -> Option<f64> {
+    v.as_f64()
+}
+
+fn percent(v: &Value) -> String {
+    f(v).map_or("-".into(), |x| format!("{:.3} %", 100.0 * x))
+}
+
+fn median(mut xs: Vec<f64>) -> f64 {
+    xs.sort_by(f64::total_cmp);
+    xs.get(xs.len() / 2).copied().unwrap_or(0.0)
+}
+
+/// The first friction value where an instability's track is flagged unstable, with its
+/// frequency there: what "unstable from" means to a reader (the record's `onset_mu` is the
+/// interpolated crossing, which for an undamped model lands on the last stable value).
+fn first_unstable(sweep: &Value, track: u64) -> Option<(f64, f64)> {
+    let members = sweep["tracks"]
+        .as_array()?
+        .iter()
+        .find(|t| t["id"].as_u64() == Some(track))?["members"]
+        .as_array()?
+        .clone();
+    let points = sweep["points"].as_array()?;
+    for (k, m) in members.iter().enumerate() {
+        let Some(i) = m.as_u64() else { continue };
+        let mode = &points.get(k)?["eigenvalues"][i as usize];
+        if mode["unstable"].as_bool() == Some(true) {
+            return Some((f(&points[k]["friction"])?, f(&mode["frequency_hz"])?));
+        }
+    }
+    None
+}
+
+impl Report {
+    /// The report of a finished study (rank 0): reads every stage's result under the study's
+    /// output folder.
+    pub fn gather(
+        study: &Study,
+        study_name: &str,
+        stages: &[Stage],
+        outcomes: &[Outcome],
+    ) -> Result<Report, StudyError> {
+        let out = study.output.clone();
+        let mut blocks = Vec::new();
+        let full = read_json(&out.join("full").join("sweep.json"))?;
+        let model = &full["model"];
+        blocks.push(Block::Heading(
+            1,
+            format!(
+                "squeal study: {}",
+                model["source"].as_str().unwrap_or(study_name)
+            ),
+        ));
+        let friction: Vec<String> = study
+            .analysis
+            .friction
+            .iter()
+            .map(|m| format!("{m}"))
+            .collect();
+        let pairs: Vec<String> = model["pairs"]
+            .as_array()
+            .map(|a| {
+                a.iter()
+                    .filter_map(|p| p.as_str().map(str::to_string))
+                    .collect()
+            })
+            .unwrap_or_default();
+        blocks.push(Block::Paragraph(format!(
+            "Study {study_name}. Full model: {} nodes, {} elements, {} equations on {} MPI rank(s); \
+             contact pairs: {}. Band 0-{} Hz; friction values {}. Made by {}.",
+            model["nodes"],
+            model["elements"],
+            model["equations"],
+            model["ranks"],
+            pairs.join(", "),
+            model["max_frequency_hz"],
+            friction.join(", "),
+            super::stage::version()
+        )));
+
+        // Models: sizes, times, memory.
+        blocks.push(Block::Heading(2, "Models and costs".into()));
+        let mut rows = Vec::new();
+        for (stage, outcome) in stages.iter().zip(outcomes) {
+            let Work::Sweep(_) = stage.work else {
+                continue;
+            };
+            let sweep = read_json(&out.join(&stage.name).join("sweep.json"))?;
+            let points = sweep["points"].as_array().cloned().unwrap_or_default();
+            let per_mu = median(points.iter().filter_map(|p| f(&p["seconds"])).collect());
+            let memory = points
+                .iter()
+                .filter_map(|p| f(&p["peak_rss_mib_all_ranks"]))
+                .fold(0.0, f64::max);
+            let se: Vec<&Value> = points
+                .iter()
+                .map(|p| &p["superelement"])
+                .filter(|s| !s.is_null())
+                .collect();
+            let size = if se.is_empty() {
+                format!("{} equations", sweep["model"]["equations"])
+            } else {
+                let largest = se.iter().filter_map(|s| s["size"].as_u64()).max();
+                let built = se
+                    .iter()
+                    .filter(|s| s["rebuilt"].as_bool() == Some(true))
+                    .count();
+                format!(
+                    "{} reduced unknowns, {built} super-element(s) built",
+                    largest.unwrap_or(0)
+                )
+            };
+            let dense = if se.is_empty() {
+                String::new()
+            } else {
+                format!(
+                    " (dense static + CEA {:.2} s)",
+                    median(
+                        se.iter()
+                            .filter_map(|s| Some(
+                                f(&s["dense_static_seconds"])? + f(&s["dense_cea_seconds"])?
+                            ))
+                            .collect()
+                    )
+                )
+            };
+            rows.push(vec![
+                stage.title.clone(),
+                format!("`{}`", stage.name),
+                size,
+                sweep["instabilities"]
+                    .as_array()
+                    .map_or(0, Vec::len)
+                    .to_string(),
+                format!("{per_mu:.1} s{dense}"),
+                format!(
+                    "{:.1} s{}",
+                    outcome.seconds(),
+                    if matches!(outcome, Outcome::Cached { .. }) {
+                        " (cached)"
+                    } else {
+                        ""
+                    }
+                ),
+                format!("{memory:.0} MiB"),
+            ]);
+        }
+        blocks.push(Block::Table {
+            header: [
+                "model",
+                "folder",
+                "size",
+                "instabilities",
+                "time per mu (median)",
+                "stage time",
+                "peak memory (all ranks)",
+            ]
+            .map(String::from)
+            .to_vec(),
+            rows,
+        });
+
+        // The full model's instabilities.
+        blocks.push(Block::Heading(2, "Instabilities of the full model".into()));
+        let mut instabilities: Vec<Value> = full["instabilities"]
+            .as_array()
+            .cloned()
+            .unwrap_or_default();
+        instabilities.sort_by(|a, b| {
+            f(&b["max_real_part"])
+                .unwrap_or(0.0)
+                .total_cmp(&f(&a["max_real_part"]).unwrap_or(0.0))
+        });
+        let mut rows = Vec::new();
+        let mut summary = Vec::new();
+        for i in &instabilities {
+            let first = i["track"].as_u64().and_then(|t| first_unstable(&full, t));
+            let (first_mu, first_f) = first.map_or(("-".into(), "-".into()), |(m, fr)| {
+                (format!("{m:.2}"), format!("{fr:.1} Hz"))
+            });
+            rows.push(vec![
+                format!("{:.1} Hz", f(&i["frequency_hz_at_max"]).unwrap_or(0.0)),
+                first_mu.clone(),
+                first_f.clone(),
+                format!("{:.3}", f(&i["onset_mu"]).unwrap_or(0.0)),
+                format!("{:.1}", f(&i["max_real_part"]).unwrap_or(0.0)),
+                format!("{:.2}", f(&i["mu_at_max"]).unwrap_or(0.0)),
+            ]);
+            summary.push(format!(
+                "{:.0} Hz: unstable from mu {first_mu} (at {first_f}), growth rate up to {:.1} 1/s at mu {:.2}",
+                f(&i["frequency_hz_at_max"]).unwrap_or(0.0),
+                f(&i["max_real_part"]).unwrap_or(0.0),
+                f(&i["mu_at_max"]).unwrap_or(0.0),
+            ));
+        }
+        if rows.is_empty() {
+            blocks.push(Block::Paragraph(
+                "No instability in the band at any friction value.".into(),
+            ));
+        } else {
+            blocks.push(Block::Paragraph(
+                "Sorted by growth rate. \"Unstable from\" is the first friction value where the \
+                 mode's real part is positive, with its frequency there; the onset is the \
+                 interpolated crossing of zero (for an undamped model it lands on the last \
+                 stable value)."
+                    .into(),
+            ));
+            blocks.push(Block::Table {
+                header: [
+                    "instability (frequency at largest real part)",
+                    "unstable from mu",
+                    "frequency there",
+                    "onset mu (interpolated)",
+                    "largest real part (1/s)",
+                    "at mu",
+                ]
+                .map(String::from)
+                .to_vec(),
+                rows,
+            });
+        }
+        for (file, caption) in [
+            ("stability_map.svg", "Stability map of the full model"),
+            (
+                "friction_sweep.svg",
+                "Frequencies and real parts of the full model's modes against mu",
+            ),
+            (
+                "contact_states.svg",
+                "Open, stick and slip shares of each contact pair against mu",
+            ),
+        ] {
+            let path = Path::new("full").join(file);
+            if out.join(&path).is_file() {
+                blocks.push(Block::Figure(path, caption.into()));
+            }
+        }
+
+        // The comparisons (Tables 4-7 analogues).
+        // Per full-model instability (its frequency, as printed): the models that have it.
+        // A model compared with a reduced interface (a super-element) is traced back through
+        // that reduced interface's own match: `aliases` holds (folder, its instability's
+        // frequency, the full model's).
+        let mut found: Vec<(String, Vec<String>)> = Vec::new();
+        let mut aliases: Vec<(String, String, String)> = Vec::new();
+        for stage in stages {
+            let Work::Compare(inputs) = &stage.work else {
+                continue;
+            };
+            let c = read_json(&out.join(&stage.name).join("compare.json"))?;
+            let tables = if stage.name == "compare-reduced" {
+                "the paper's Tables 4-5"
+            } else {
+                "the paper's Tables 6-7"
+            };
+            blocks.push(Block::Heading(
+                2,
+                format!("{} ({tables}; eqs. 12-14)", capitalised(&stage.title)),
+            ));
+            blocks.push(Block::Paragraph(format!(
+                "Reference: `{}`. Per instability of the reference and per model: whether the \
+                 model has it, the MAC of the unstable shapes, and the frequency errors over the \
+                 shared friction values (mean, min, max of eq. 12's summand), with the largest \
+                 real-part gap relative to the reference's largest real part. From `{}/compare.json`.",
+                inputs[0], stage.name
+            )));
+            let compared = c["instabilities"].as_array().cloned().unwrap_or_default();
+            if compared.is_empty() {
+                blocks.push(Block::Paragraph(format!(
+                    "The reference `{}` has no instability to compare.",
+                    inputs[0]
+                )));
+            }
+            let mut rows = Vec::new();
+            for i in compared {
+                let model = i["model"].as_str().unwrap_or("");
+                let folder = Path::new(model)
+                    .file_name()
+                    .map_or(model.to_string(), |n| n.to_string_lossy().into_owned());
+                let matched = i["matched"].as_bool() == Some(true);
+                let key = format!("{:.1}", f(&i["reference_frequency_hz"]).unwrap_or(0.0));
+                if matched {
+                    let full_key = if inputs[0] == "full" {
+                        Some(key.clone())
+                    } else {
+                        aliases
+                            .iter()
+                            .find(|(a, f, _)| *a == inputs[0] && *f == key)
+                            .map(|(_, _, k)| k.clone())
+                    };
+                    if let Some(full_key) = full_key {
+                        let against = if inputs[0] == "full" {
+                            String::new()
+                        } else {
+                            format!(" against {}", inputs[0])
+                        };
+                        let entry = format!("{folder} (max {}{against})", percent(&i["max_error"]));
+                        match found.iter_mut().find(|(k, _)| *k == full_key) {
+                            Some((_, v)) => v.push(entry),
+                            None => found.push((full_key.clone(), vec![entry])),
+                        }
+                        if let Some(fm) = f(&i["model_frequency_hz"]) {
+                            aliases.push((folder.clone(), format!("{fm:.1}"), full_key));
+                        }
+                    }
+                }
+                rows.push(vec![
+                    format!("{key} Hz"),
+                    format!("`{folder}`"),
+                    if matched { "yes" } else { "**missed**" }.into(),
+                    f(&i["mac"]).map_or("-".into(), |m| format!("{m:.3}")),
+                    percent(&i["mean_error"]),
+                    percent(&i["min_error"]),
+                    percent(&i["max_error"]),
+                    percent(&i["real_part_max_error"]),
+                ]);
+            }
+            if !rows.is_empty() {
+                blocks.push(Block::Table {
+                    header: [
+                        "reference instability",
+                        "model",
+                        "found",
+                        "MAC",
+                        "mean",
+                        "min",
+                        "max",
+                        "real part max",
+                    ]
+                    .map(String::from)
+                    .to_vec(),
+                    rows,
+                });
+            }
+            let extra = c["extra"].as_array().cloned().unwrap_or_default();
+            if !extra.is_empty() {
+                let list: Vec<String> = extra
+                    .iter()
+                    .map(|e| {
+                        format!(
+                            "{:.1} Hz in `{}`",
+                            f(&e["frequency_hz"]).unwrap_or(0.0),
+                            Path::new(e["model"].as_str().unwrap_or(""))
+                                .file_name()
+                                .map_or(String::new(), |n| n.to_string_lossy().into_owned())
+                        )
+                    })
+                    .collect();
+                blocks.push(Block::Paragraph(format!(
+                    "Instabilities the reference does not have: {}.",
+                    list.join(", ")
+                )));
+            }
+            let mut figures: Vec<PathBuf> = std::fs::read_dir(out.join(&stage.name))
+                .map(|d| {
+                    d.filter_map(|e| e.ok())
+                        .map(|e| e.file_name().to_string_lossy().into_owned())
+                        .filter(|n| n.ends_with(".svg"))
+                        .map(|n| Path::new(&stage.name).join(n))
+                        .collect()
+                })
+                .unwrap_or_default();
+            figures.sort();
+            for path in figures {
+                let name = path
+                    .file_name()
+                    .map_or(String::new(), |n| n.to_string_lossy().into_owned());
+                let caption = if name.starts_with("instability_") {
+                    format!(
+                        "{}: frequency and real part against mu, the reference in black, every model overlaid",
+                        name.trim_start_matches("instability_").trim_end_matches(".svg")
+                    )
+                } else {
+                    format!(
+                        "Contact states on the pads ({})",
+                        name.trim_end_matches(".svg")
+                    )
+                };
+                blocks.push(Block::Figure(path, caption));
+            }
+        }
+
+        // The closing summary.
+        let mut closing = Vec::new();
+        if summary.is_empty() {
+            closing.push("The full model has no unstable mode in the band.".to_string());
+        } else {
+            closing.push(format!(
+                "{} unstable mode(s) of the full model, the fastest-growing first:",
+                summary.len()
+            ));
+            for (line, i) in summary.iter().zip(&instabilities) {
+                let key = format!("{:.1}", f(&i["frequency_hz_at_max"]).unwrap_or(0.0));
+                let by = found
+                    .iter()
+                    .find(|(k, _)| *k == key)
+                    .map_or("no reduced model".to_string(), |(_, v)| v.join(", "));
+                closing.push(format!("- {line}; found by: {by}"));
+            }
+        }
+        blocks.push(Block::Heading(2, "Summary".into()));
+        for line in &closing {
+            blocks.push(Block::Paragraph(line.clone()));
+        }
+        Ok(Report {
+            blocks,
+            summary: closing,
+            root: out,
+        })
+    }
+
+    /// The closing summary, as printed on screen.
+    pub fn summary_text(&self) -> String {
+        self.summary.join("\n")
+    }
+
+    pub fn markdown(&self) -> String {
+        let mut s = String::new();
+        for b in &self.blocks {
+            match b {
+                Block::Heading(level, text) => {
+                    let _ = writeln!(s, "{} {text}\n", "#".repeat(*level));
+                }
+                Block::Paragraph(text) => {
+                    let _ = writeln!(s, "{text}\n");
+                }
+                Block::Table { header, rows } => {
+                    let _ = writeln!(s, "| {} |", header.join(" | "));
+                    let _ = writeln!(s, "|{}", "---|".repeat(header.len()));
+                    for r in rows {
+                        let _ = writeln!(s, "| {} |", r.join(" | "));
+                    }
+                    s.push('\n');
+                }
+                Block::Figure(path, caption) => {
+                    let _ = writeln!(s, "![{caption}]({})\n", path.display());
+                }
+            }
+        }
+        s
+    }
+
+    /// The page, with every figure inlined (a figure that cannot be read is named instead).
+    pub fn html(&self) -> String {
+        let mut s = String::from(
+            "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n<title>squeal study</title>\n<style>\n\
+             body{font-family:sans-serif;max-width:1100px;margin:2em auto;padding:0 1em;color:#222}\n\
+             table{border-collapse:collapse;margin:1em 0}th,td{border:1px solid #bbb;padding:.3em .6em;text-align:left}\n\
+             th{background:#eee}figure{margin:1.5em 0}figcaption{font-style:italic;color:#555}\n\
+             svg{max-width:100%;height:auto}code{background:#f4f4f4;padding:0 .2em}\n\
+             </style></head><body>\n",
+        );
+        for b in &self.blocks {
+            match b {
+                Block::Heading(level, text) => {
+                    let _ = writeln!(s, "<h{level}>{}</h{level}>", inline(text));
+                }
+                Block::Paragraph(text) => {
+                    if let Some(item) = text.strip_prefix("- ") {
+                        let _ = writeln!(s, "<ul><li>{}</li></ul>", inline(item));
+                    } else {
+                        let _ = writeln!(s, "<p>{}</p>", inline(text));
+                    }
+                }
+                Block::Table { header, rows } => {
+                    s.push_str("<table><thead><tr>");
+                    for h in header {
+                        let _ = write!(s, "<th>{}</th>", inline(h));
+                    }
+                    s.push_str("</tr></thead><tbody>\n");
+                    for r in rows {
+                        s.push_str("<tr>");
+                        for c in r {
+                            let _ = write!(s, "<td>{}</td>", inline(c));
+                        }
+                        s.push_str("</tr>\n");
+                    }
+                    s.push_str("</tbody></table>\n");
+                }
+                Block::Figure(path, caption) => {
+                    let svg = std::fs::read_to_string(self.root.join(path))
+                        .map(|t| strip_prolog(&t).to_string())
+                        .unwrap_or_else(|e| {
+                            format!("<p>({}: {e})</p>", escape(&path.display().to_string()))
+                        });
+                    let _ = writeln!(
+                        s,
+                        "<figure>{svg}<figcaption>{}</figcaption></figure>",
+                        inline(caption)
+                    );
+                }
+            }
+        }
+        s.push_str("</body></html>\n");
+        s
+    }
+
+    /// `report.md` and `report.html` in `dir`, each written atomically.
+    pub fn write(&self, dir: &Path) -> Result<(), StudyError> {
+        write_file(&dir.join("report.md"), self.markdown().as_bytes())?;
+        write_file(&dir.join("report.html"), self.html().as_bytes())
+    }
+}
+
+fn capitalised(s: &str) -> String {
+    let mut c = s.chars();
+    c.next()
+        .map(|first| first.to_uppercase().chain(c).collect())
+        .unwrap_or_default()
+}
+
+fn escape(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+}
+
+/// The little Markdown the report's text uses, as HTML: `code` and **bold**.
+fn inline(s: &str) -> String {
+    let mut out = String::new();
+    for (k, part) in escape(s).split('`').enumerate() {
+        if k % 2 == 1 {
+            let _ = write!(out, "<code>{part}</code>");
+        } else {
+            for (j, bit) in part.split("**").enumerate() {
+                if j % 2 == 1 {
+                    let _ = write!(out, "<strong>{bit}</strong>");
+                } else {
+                    out.push_str(bit);
+                }
+            }
+        }
+    }
+    out
+}
+
+/// An SVG file's text without its XML declaration or doctype (not allowed inside HTML).
+fn strip_prolog(svg: &str) -> &str {
+    svg.find("<svg").map_or(svg, |i| &svg[i..])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn markdown_and_html_render_the_same_blocks() {
+        let r = Report {
+            blocks: vec![
+                Block::Heading(1, "a <b> & c".into()),
+                Block::Paragraph("see `x.json`, **missed**".into()),
+                Block::Table {
+                    header: vec!["h1".into(), "h2".into()],
+                    rows: vec![vec!["1".into(), "2 %".into()]],
+                },
+                Block::Figure("nowhere/f.svg".into(), "cap".into()),
+            ],
+            summary: vec![],
+            root: PathBuf::from("/nonexistent"),
+        };
+        let md = r.markdown();
+        assert!(md.contains("# a <b> & c\n"), "{md}");
+        assert!(md.contains("| h1 | h2 |\n|---|---|\n| 1 | 2 % |"), "{md}");
+        assert!(md.contains("![cap](nowhere/f.svg)"), "{md}");
+        let html = r.html();
+        assert!(html.contains("<h1>a &lt;b&gt; &amp; c</h1>"), "{html}");
+        assert!(
+            html.contains("<code>x.json</code>, <strong>missed</strong>"),
+            "{html}"
+        );
+        assert!(html.contains("<td>2 %</td>"), "{html}");
+        // A missing figure is named, not dropped silently.
+        assert!(html.contains("nowhere/f.svg"), "{html}");
+        assert_eq!(strip_prolog("<?xml version=\"1.0\"?>\n<svg a>"), "<svg a>");
+    }
+}

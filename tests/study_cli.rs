@@ -1,0 +1,245 @@
+//! `squeal study` under `mpirun -n 2`: every stage runs, the report carries the comparison's
+//! numbers, a rerun reuses every stage, a changed key recomputes only what depends on it, and
+//! a run interrupted after its first stage resumes there with the same numbers.
+
+mod common;
+
+use common::{scratch, squeal};
+use serde_json::Value;
+use std::path::{Path, PathBuf};
+
+fn success(args: &[&str]) -> String {
+    let run = common::mpirun(2, squeal(), args);
+    assert!(run.status.success(), "{}", common::text(&run));
+    String::from_utf8_lossy(&run.stdout).into_owned()
+}
+
+/// The tiny brake's study at two friction values, with a plan of one reduced interface (22
+/// nodes per pad: it finds the full model's two instabilities) and one super-element
+/// strategy; `mu_se` is the super-element's friction.
+fn write_study(dir: &Path, mu_se: f64) -> PathBuf {
+    let file = dir.join("study.toml");
+    let f = file.to_str().unwrap();
+    success(&[
+        "study",
+        "--preset",
+        "tiny",
+        "--friction",
+        "0.3,0.7",
+        "--fmax",
+        "4000",
+        "--write-study",
+        f,
+    ]);
+    let text = std::fs::read_to_string(&file).unwrap();
+    // --write-study fills the plan in with its defaults, the last table of the file.
+    let at = text.find("[comparison]").expect("the plan is written");
+    assert!(!text[at..].contains("\n[") || text[at + 1..].find("\n[").is_none());
+    let plan = format!(
+        "[comparison]\ncontact_nodes_per_pad = [22]\nsuperelements = [\"single\"]\n\n\
+         [reduction]\ncutoff_frequency_hz = 15000.0\nsuperelement_friction = {mu_se}\n"
+    );
+    std::fs::write(&file, format!("{}{plan}", &text[..at])).unwrap();
+    file
+}
+
+fn json(path: &Path) -> Value {
+    let bytes = std::fs::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    serde_json::from_slice(&bytes).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
+/// The stages a run's output says it ran (not from the cache), by folder title.
+fn running(stdout: &str) -> Vec<String> {
+    stdout
+        .lines()
+        .filter(|l| l.starts_with('[') && l.contains(": running"))
+        .map(|l| l.split(": running").next().unwrap().to_string())
+        .collect()
+}
+
+fn cached(stdout: &str) -> usize {
+    stdout
+        .lines()
+        .filter(|l| l.starts_with('[') && l.contains(": from the cache"))
+        .count()
+}
+
+/// Every eigenvalue of every stage's sweep, in stage order: what must not change when a run
+/// is interrupted and resumed.
+fn all_eigenvalues(out: &Path) -> Vec<f64> {
+    let mut v = Vec::new();
+    for stage in ["full", "reduced-22", "superelements-single-22"] {
+        let s = json(&out.join(stage).join("sweep.json"));
+        for p in s["points"].as_array().unwrap() {
+            for (f, a, _) in common::eigenvalues_of(p) {
+                v.extend([f, a]);
+            }
+        }
+    }
+    v
+}
+
+#[test]
+fn a_study_runs_its_stages_reports_them_and_reruns_only_what_changed() {
+    let dir = scratch("study", "stages");
+    let file = write_study(&dir, 0.5);
+    let out = dir.join("out");
+    let (f, o) = (file.to_str().unwrap(), out.to_str().unwrap());
+    let first = success(&["study", f, "-o", o]);
+    assert_eq!(running(&first).len(), 5, "{first}");
+    assert_eq!(cached(&first), 0, "{first}");
+
+    // The report's numbers are the comparison's: each row of compare.json, printed.
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    let html = std::fs::read_to_string(out.join("report.html")).unwrap();
+    let mut rows = 0;
+    for stage in ["compare-reduced", "compare-superelements"] {
+        let c = json(&out.join(stage).join("compare.json"));
+        for i in c["instabilities"].as_array().unwrap() {
+            assert_eq!(i["matched"], Value::Bool(true), "{stage}: {i}");
+            let row = format!(
+                "| {:.1} Hz | `{}` | yes | {:.3} | {:.3} % | {:.3} % | {:.3} % | {:.3} % |",
+                i["reference_frequency_hz"].as_f64().unwrap(),
+                Path::new(i["model"].as_str().unwrap())
+                    .file_name()
+                    .unwrap()
+                    .to_string_lossy(),
+                i["mac"].as_f64().unwrap(),
+                100.0 * i["mean_error"].as_f64().unwrap(),
+                100.0 * i["min_error"].as_f64().unwrap(),
+                100.0 * i["max_error"].as_f64().unwrap(),
+                100.0 * i["real_part_max_error"].as_f64().unwrap(),
+            );
+            assert!(report.contains(&row), "{row}\nnot in\n{report}");
+            rows += 1;
+        }
+    }
+    // The tiny brake's two instabilities, in the reduced interface and the super-element.
+    assert_eq!(rows, 4, "{report}");
+    let full = json(&out.join("full").join("sweep.json"));
+    for i in full["instabilities"].as_array().unwrap() {
+        let line = format!("| {:.1} Hz |", i["frequency_hz_at_max"].as_f64().unwrap());
+        assert!(report.contains(&line), "{line}\n{report}");
+    }
+    // The page holds the same tables and its figures inline.
+    assert_eq!(
+        html.matches("<table>").count(),
+        report.matches("\n|---|").count(),
+        "{html}"
+    );
+    assert!(html.matches("<svg").count() >= 3, "figures inlined");
+    assert!(
+        !html.contains("<?xml"),
+        "an XML declaration inside the page"
+    );
+
+    // Nothing changed: every stage from the cache.
+    let again = success(&["study", f, "-o", o]);
+    assert!(running(&again).is_empty(), "{again}");
+    assert_eq!(cached(&again), 5, "{again}");
+
+    // mu_SE changed: the super-element and its comparison only.
+    write_study(&dir, 0.3);
+    let changed = success(&["study", f, "-o", o]);
+    let ran = running(&changed);
+    assert_eq!(ran.len(), 2, "{changed}");
+    assert!(ran[0].contains("super-elements (single)"), "{changed}");
+    assert!(ran[1].contains("super-elements against"), "{changed}");
+    assert_eq!(cached(&changed), 3, "{changed}");
+
+    // Interrupted after its first stage, a run resumes there with the same numbers.
+    write_study(&dir, 0.5);
+    let resumed = dir.join("resumed");
+    let r = resumed.to_str().unwrap();
+    let (mut job, _session) = common::mpirun_spawn(2, squeal(), &["study", f, "-o", r]);
+    let record = resumed.join("full.stage.json");
+    let started = std::time::Instant::now();
+    while !record.exists() {
+        assert!(
+            job.try_wait().unwrap().is_none(),
+            "the study ended before its first stage was recorded"
+        );
+        assert!(started.elapsed().as_secs() < 300, "no first stage in 300 s");
+        std::thread::sleep(std::time::Duration::from_millis(100));
+    }
+    let signalled = std::process::Command::new("kill")
+        .args(["-INT", &job.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(signalled.success());
+    let stopping = std::time::Instant::now();
+    while job.try_wait().unwrap().is_none() {
+        if stopping.elapsed().as_secs() > 60 {
+            let _ = job.kill();
+            panic!("the interrupted study did not stop within 60 s");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(100));
+    }
+    let stopped = job.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&stopped.stderr);
+    assert!(!stopped.status.success(), "{stderr}");
+    // (Rank 0's "interrupted by SIGTERM" line is sweep_cli's to check: mpirun, killing its
+    // ranks, has once been seen to drop their last output here.)
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    // Whatever is in the folder is whole: every JSON file parses, and no stage after the
+    // first is recorded as done.
+    let mut files = vec![resumed.clone()];
+    while let Some(p) = files.pop() {
+        if p.is_dir() {
+            files.extend(std::fs::read_dir(&p).unwrap().map(|e| e.unwrap().path()));
+        } else if p.extension().is_some_and(|e| e == "json") {
+            json(&p);
+        }
+    }
+    assert!(!resumed.join("reduced-22.stage.json").exists());
+    assert!(!resumed.join("report.md").exists());
+    let rest = success(&["study", f, "-o", r]);
+    assert_eq!(cached(&rest), 1, "{rest}");
+    assert_eq!(running(&rest).len(), 4, "{rest}");
+    let (a, b) = (all_eigenvalues(&out), all_eigenvalues(&resumed));
+    assert_eq!(a.len(), b.len());
+    for (x, y) in a.iter().zip(&b) {
+        assert!(
+            (x - y).abs() <= 1e-9 * x.abs().max(1.0),
+            "resumed {y} against {x}"
+        );
+    }
+}
+
+#[test]
+fn a_bad_plan_is_refused_naming_the_key() {
+    let dir = scratch("study", "bad-plan");
+    let file = write_study(&dir, 0.5);
+    let text = std::fs::read_to_string(&file).unwrap();
+    for (plan, key) in [
+        (
+            "contact_nodes_per_pad = [22]",
+            "contact_nodes_per_pad = [22, 22]",
+        ),
+        (
+            "superelements = [\"single\"]",
+            "superelements = [\"single\", \"single\"]",
+        ),
+        (
+            "contact_nodes_per_pad = [22]",
+            "contact_nodes_per_pad = [0]",
+        ),
+    ] {
+        std::fs::write(&file, text.replace(plan, key)).unwrap();
+        let run = common::mpirun(
+            2,
+            squeal(),
+            &[
+                "study",
+                file.to_str().unwrap(),
+                "-o",
+                dir.join("out").to_str().unwrap(),
+            ],
+        );
+        assert!(!run.status.success(), "{}", common::text(&run));
+        let stderr = String::from_utf8_lossy(&run.stderr);
+        assert!(stderr.contains("comparison."), "{key}: {stderr}");
+        assert_eq!(stderr.matches("squeal: error").count(), 1, "{stderr}");
+        assert!(!dir.join("out").exists(), "{key}: something was written");
+    }
+}
