@@ -110,6 +110,10 @@ pub struct Instability {
     pub coalescence_mu: Option<f64>,
     /// Frequency at `onset_mu`, interpolated linearly like it.
     pub frequency_hz_at_onset: f64,
+    /// The first friction value where the track is unstable, and its frequency there: what
+    /// "unstable from" means to a reader (`onset_mu` lies at or before it).
+    pub first_unstable_mu: f64,
+    pub frequency_hz_at_first_unstable: f64,
     /// The largest real part (1/s) over the interval.
     pub max_real_part: f64,
     pub mu_at_max: f64,
@@ -728,6 +732,8 @@ fn describe(
         onset_bracketed,
         coalescence_mu,
         frequency_hz_at_onset,
+        first_unstable_mu: points[first].mu,
+        frequency_hz_at_first_unstable: frequency_hz(at(first)),
         max_real_part: a_max,
         mu_at_max: points[k_max].mu,
         frequency_hz_at_max: frequency_hz(at(k_max)),

@@ -60,27 +60,6 @@ fn median(mut xs: Vec<f64>) -> f64 {
     xs.get(xs.len() / 2).copied().unwrap_or(0.0)
 }
 
-/// The first friction value where an instability's track is flagged unstable, with its
-/// frequency there: what "unstable from" means to a reader (the record's `onset_mu` is the
-/// interpolated crossing, which for an undamped model lands on the last stable value).
-fn first_unstable(sweep: &Value, track: u64) -> Option<(f64, f64)> {
-    let members = sweep["tracks"]
-        .as_array()?
-        .iter()
-        .find(|t| t["id"].as_u64() == Some(track))?["members"]
-        .as_array()?
-        .clone();
-    let points = sweep["points"].as_array()?;
-    for (k, m) in members.iter().enumerate() {
-        let Some(i) = m.as_u64() else { continue };
-        let mode = &points.get(k)?["eigenvalues"][i as usize];
-        if mode["unstable"].as_bool() == Some(true) {
-            return Some((f(&points[k]["friction"])?, f(&mode["frequency_hz"])?));
-        }
-    }
-    None
-}
-
 impl Report {
     /// The report of a finished study (rank 0): reads every stage's result under the study's
     /// output folder.
@@ -224,15 +203,21 @@ impl Report {
         let mut rows = Vec::new();
         let mut summary = Vec::new();
         for i in &instabilities {
-            let first = i["track"].as_u64().and_then(|t| first_unstable(&full, t));
-            let (first_mu, first_f) = first.map_or(("-".into(), "-".into()), |(m, fr)| {
-                (format!("{m:.2}"), format!("{fr:.1} Hz"))
-            });
+            let first_mu = f(&i["first_unstable_mu"]).map_or("-".into(), |m| format!("{m:.2}"));
+            let first_f = f(&i["frequency_hz_at_first_unstable"])
+                .map_or("-".into(), |x| format!("{x:.1} Hz"));
+            // The onset between the samples: the coalescence of the pair's eigenvalues where
+            // bracketed, else the real part's zero crossing.
+            let onset = match (i["onset_bracketed"].as_bool(), f(&i["coalescence_mu"])) {
+                (Some(false), _) => "before the first value".to_string(),
+                (_, Some(c)) => format!("{c:.3} (coalescence)"),
+                _ => format!("{:.3}", f(&i["onset_mu"]).unwrap_or(0.0)),
+            };
             rows.push(vec![
                 format!("{:.1} Hz", f(&i["frequency_hz_at_max"]).unwrap_or(0.0)),
                 first_mu.clone(),
                 first_f.clone(),
-                format!("{:.3}", f(&i["onset_mu"]).unwrap_or(0.0)),
+                onset,
                 format!("{:.1}", f(&i["max_real_part"]).unwrap_or(0.0)),
                 format!("{:.2}", f(&i["mu_at_max"]).unwrap_or(0.0)),
             ]);
@@ -250,9 +235,10 @@ impl Report {
         } else {
             blocks.push(Block::Paragraph(
                 "Sorted by growth rate. \"Unstable from\" is the first friction value where the \
-                 mode's real part is positive, with its frequency there; the onset is the \
-                 interpolated crossing of zero (for an undamped model it lands on the last \
-                 stable value)."
+                 mode is found unstable, with its frequency there; the onset is the estimate \
+                 between the samples: where the pair's eigenvalues coalesce, interpolated, or \
+                 else where the real part crosses zero (for an undamped model that lands on the \
+                 last stable value)."
                     .into(),
             ));
             blocks.push(Block::Table {
@@ -260,7 +246,7 @@ impl Report {
                     "instability (frequency at largest real part)",
                     "unstable from mu",
                     "frequency there",
-                    "onset mu (interpolated)",
+                    "onset mu (between samples)",
                     "largest real part (1/s)",
                     "at mu",
                 ]

@@ -191,10 +191,7 @@ mod tests {
     }
 
     fn keys(s: &Study) -> Vec<(String, String)> {
-        plan(s, "")
-            .into_iter()
-            .map(|s| (s.name, s.key))
-            .collect()
+        plan(s, "").into_iter().map(|s| (s.name, s.key)).collect()
     }
 
     #[test]

@@ -336,7 +336,7 @@ fn write_plots(
     let lines: Vec<plot::Track> = tracks
         .iter()
         .map(|t| {
-            let pts = t
+            let pts: Vec<(f64, f64, f64)> = t
                 .members
                 .iter()
                 .enumerate()
@@ -347,7 +347,20 @@ fn write_plots(
                     })
                 })
                 .collect();
-            (format!("track {}", t.id), pts, unstable.contains(&t.id))
+            // Named by frequency, which a reader can find on the stability map: an
+            // instability's two tracks by the frequency where it grows most.
+            let name = match instabilities
+                .iter()
+                .find(|i| i.track == t.id || i.partner == Some(t.id))
+            {
+                Some(i) if i.track == t.id => format!("{:.0} Hz", i.frequency_hz_at_max),
+                Some(i) => format!("{:.0} Hz (partner)", i.frequency_hz_at_max),
+                None => {
+                    let first: Option<&(f64, f64, f64)> = pts.first();
+                    first.map_or(format!("track {}", t.id), |p| format!("{:.0} Hz", p.1))
+                }
+            };
+            (name, pts, unstable.contains(&t.id))
         })
         .collect();
     // Each pair's open / stick / slip shares against mu (the paper's Figure 15).
@@ -415,15 +428,25 @@ pub fn summary_table(reports: &[SweepPointReport], instabilities: &[Instability]
     }
     s.push_str(&format!("\n  {} instabilities\n", instabilities.len()));
     for i in instabilities {
+        // Where it starts, as a reader wants it: the first friction value found unstable and
+        // the mode's frequency there; then the estimate between the samples (the eigenvalues'
+        // coalescence where bracketed, else the real part's zero crossing, which for an
+        // undamped model lands on the last stable value).
+        let onset = match (i.onset_bracketed, i.coalescence_mu) {
+            (false, _) => "unstable from the sweep's first value".to_string(),
+            (true, Some(c)) => format!("onset at mu {c:.3} (coalescence, interpolated)"),
+            (true, None) => format!("onset at mu {:.3} (interpolated)", i.onset_mu),
+        };
         s.push_str(&format!(
-            "    track {:>3} (partner {}): onset mu {:.3} at {:.1} Hz, max real part {:.4e} 1/s at mu {:.2} ({:.1} Hz)\n",
-            i.track,
-            i.partner.map_or("-".into(), |p| p.to_string()),
-            i.onset_mu,
-            i.frequency_hz_at_onset,
+            "    {:.1} Hz: unstable from mu {:.2} at {:.1} Hz, {onset}; max real part {:.4e} 1/s at mu {:.2} ({:.1} Hz) [track {}, partner {}]\n",
+            i.frequency_hz_at_max,
+            i.first_unstable_mu,
+            i.frequency_hz_at_first_unstable,
             i.max_real_part,
             i.mu_at_max,
-            i.frequency_hz_at_max
+            i.frequency_hz_at_max,
+            i.track,
+            i.partner.map_or("-".into(), |p| p.to_string()),
         ));
     }
     s
