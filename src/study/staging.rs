@@ -32,7 +32,7 @@ fn written_by_squeal(name: &str, is_dir: bool) -> bool {
         "compare.md",
         "assemble.json",
     ];
-    FILES.contains(&name) || name.ends_with(".svg")
+    FILES.contains(&name) || name.ends_with(".svg") || name.ends_with(".png")
 }
 
 /// A run's folder in the making. Rank 0 owns the files; every rank holds the paths.

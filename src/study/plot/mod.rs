@@ -1,14 +1,15 @@
 //! SVG figures of the studies, drawn with `plotters` (its SVG backend: text stays text, so
-//! the files open in any browser, convert with `rsvg-convert -o out.png in.svg`, and diff).
+//! the files open in any browser and diff), each written with its PNG twin ([`png`]).
 //!
 //! One figure per file: [`stability_map`], [`sweep_tracks`], [`contact_states`] (a sweep's
 //! plots), [`comparison`] and [`contact_map`] (a comparison's). Each returns the SVG document; [`write_svg`]
-//! writes it whole or not at all. Points that are NaN, infinite or beyond +-1e300 are
+//! writes it and its PNG, each whole or not at all. Points that are NaN, infinite or beyond +-1e300 are
 //! skipped (and break lines), a figure without data says "no data".
 
 mod comparison;
 mod contact_map;
 mod contact_states;
+pub mod png;
 mod stability_map;
 mod style;
 mod sweep_tracks;
@@ -59,8 +60,12 @@ impl From<PlotError> for std::io::Error {
     }
 }
 
-/// Writes an SVG document whole or not at all (temporary file renamed into place).
+/// Writes an SVG document and its PNG image (same name, `.png`), each whole or not at all
+/// (temporary file renamed into place). The PNG is made first, so a figure that cannot be
+/// rasterised leaves neither file.
 pub fn write_svg(path: &Path, svg: &str) -> std::io::Result<()> {
+    let png = png::svg_to_png(svg)?;
+    super::report::write_atomically(&path.with_extension("png"), &png)?;
     super::report::write_atomically(path, svg.as_bytes())
 }
 
@@ -84,8 +89,10 @@ mod tests {
         let svg = stability_map(&[point], "written").unwrap();
         write_svg(&path, &svg).unwrap();
         assert_eq!(std::fs::read_to_string(&path).unwrap(), svg);
+        let png = std::fs::read(path.with_extension("png")).unwrap();
+        assert!(png.starts_with(b"\x89PNG"), "the PNG twin is written");
         let leftovers = std::fs::read_dir(path.parent().unwrap()).unwrap().count();
-        assert_eq!(leftovers, 1, "no temporary file left behind");
+        assert_eq!(leftovers, 2, "no temporary file left behind");
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }
