@@ -133,6 +133,8 @@ fn a_study_runs_its_stages_reports_them_and_reruns_only_what_changed() {
         "an XML declaration inside the page"
     );
 
+    look_at_the_page_in_chromium(&out.join("report.html"));
+
     // Nothing changed: every stage from the cache.
     let again = success(&["study", f, "-o", o]);
     assert!(running(&again).is_empty(), "{again}");
@@ -204,6 +206,60 @@ fn a_study_runs_its_stages_reports_them_and_reruns_only_what_changed() {
             "resumed {y} against {x}"
         );
     }
+}
+
+/// Headless Chromium (Debian's, as ci/setup installs it), with the flags this closed
+/// network needs.
+fn chromium(args: &[&str]) -> std::process::Output {
+    let profile = tempfile::tempdir().unwrap();
+    std::process::Command::new("timeout")
+        .args(["120", "chromium"])
+        .args([
+            "--headless",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--disable-quic",
+            "--no-first-run",
+            "--disable-background-networking",
+            "--disable-component-update",
+            "--disable-sync",
+        ])
+        .arg(format!("--user-data-dir={}", profile.path().display()))
+        .args(args)
+        .output()
+        .expect("could not run chromium: install it (apt-get install chromium; ci/setup does)")
+}
+
+/// The report as a person sees it: Chromium lays the page out and takes a screenshot, which
+/// must show a page (not blank, not an error page), and the DOM it built holds the tables.
+fn look_at_the_page_in_chromium(page: &Path) {
+    let url = format!("file://{}", page.canonicalize().unwrap().display());
+    let shot = page.with_file_name("report-screenshot.png");
+    let run = chromium(&[
+        "--window-size=1200,1600",
+        &format!("--screenshot={}", shot.display()),
+        &url,
+    ]);
+    assert!(
+        shot.is_file(),
+        "no screenshot: {}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let image = resvg::tiny_skia::Pixmap::decode_png(&std::fs::read(&shot).unwrap()).unwrap();
+    assert_eq!((image.width(), image.height()), (1200, 1600));
+    // Text, table rules and the first figure: a laid-out report inks several per cent of
+    // its first screen; a blank page or a one-line error page inks almost nothing.
+    let inked = image
+        .pixels()
+        .iter()
+        .filter(|p| p.red() < 200 || p.green() < 200 || p.blue() < 200)
+        .count();
+    let share = inked as f64 / (1200.0 * 1600.0);
+    assert!(share > 0.02, "the screenshot is nearly blank ({share})");
+    let dom = chromium(&["--dump-dom", &url]);
+    let dom = String::from_utf8_lossy(&dom.stdout);
+    assert!(dom.matches("<table>").count() >= 3, "{dom}");
+    assert!(dom.contains("<svg"), "no figure in the DOM");
 }
 
 #[test]
