@@ -27,6 +27,14 @@ struct Cli {
     )]
     petsc_options: Option<String>,
 
+    /// Only warnings and errors on the log (results and tables are still printed).
+    #[arg(long, short, global = true, conflicts_with = "verbose")]
+    quiet: bool,
+
+    /// The solvers' details too (the same as SQUEAL_LOG=debug).
+    #[arg(long, short, global = true)]
+    verbose: bool,
+
     #[command(subcommand)]
     command: Command,
 }
@@ -386,16 +394,21 @@ fn main() -> ExitCode {
     };
     let world = rt.world();
     study::interrupt::install(world.rank());
-    // Progress is logged by rank 0 only; SQUEAL_LOG=debug shows more.
-    let filter = if world.rank() == 0 {
+    // Progress is logged by rank 0 only; --verbose or SQUEAL_LOG=debug shows more, --quiet
+    // only warnings.
+    let filter = if world.rank() != 0 {
+        tracing_subscriber::EnvFilter::new("off")
+    } else if cli.quiet {
+        tracing_subscriber::EnvFilter::new("warn")
+    } else if cli.verbose {
+        tracing_subscriber::EnvFilter::new("debug")
+    } else {
         tracing_subscriber::EnvFilter::try_from_env("SQUEAL_LOG")
             .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new("info"))
-    } else {
-        tracing_subscriber::EnvFilter::new("off")
     };
     tracing_subscriber::fmt()
         .with_env_filter(filter)
-        .with_writer(std::io::stderr)
+        .with_writer(study::progress::LogWriter)
         .with_target(false)
         .with_ansi(std::io::IsTerminal::is_terminal(&std::io::stderr()))
         .without_time()

@@ -13,6 +13,7 @@ pub mod interrupt;
 pub mod modes;
 pub mod pipeline;
 pub mod plot;
+pub mod progress;
 pub mod radius;
 pub mod report;
 pub mod staging;

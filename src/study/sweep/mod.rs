@@ -361,7 +361,12 @@ fn sweep_into<'rt>(
     let mut reports = Vec::new();
     let mut points = Vec::new();
     let total = plan.friction.len();
+    let name = published
+        .file_name()
+        .map_or("sweep".to_string(), |n| n.to_string_lossy().into_owned());
+    let bar = super::progress::Progress::new(comm.rank(), &name, total);
     for (step, &mu) in plan.friction.iter().enumerate() {
+        bar.message(format!("mu {mu:.3}"));
         interrupt::progress(format!(
             " at mu {mu:.3} (point {} of {total}); {} finished point(s) are whole in {}; {} \
              is unchanged",
@@ -383,7 +388,9 @@ fn sweep_into<'rt>(
             });
         }
         reports.push(report);
+        bar.step();
     }
+    drop(bar);
     if !root {
         return Ok(SweepSummary::default());
     }

@@ -1,0 +1,91 @@
+//! Progress of long work on rank 0: a bar (indicatif) with the stage's name, where it is and
+//! an estimate of the time left, drawn only when stdout is a terminal; the per-step log lines
+//! stay in every case (through [`LogWriter`], which prints them above the bar while one is
+//! drawn, so the two never tear each other). Other ranks draw nothing.
+
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use std::io::Write;
+use std::sync::Mutex;
+
+/// The bar being drawn, if any: the log writer needs it to print above it.
+static CURRENT: Mutex<Option<ProgressBar>> = Mutex::new(None);
+
+/// A bar over `total` steps of one stage; hidden on ranks other than 0, when stdout is not a
+/// terminal, and in quiet runs (indicatif hides a bar whose target is not a terminal).
+pub struct Progress {
+    bar: ProgressBar,
+}
+
+impl Progress {
+    pub fn new(rank: usize, stage: &str, total: usize) -> Progress {
+        // On stdout: under mpirun a rank's stdout is a terminal (OpenMPI gives it a pty) when
+        // mpirun's is, while its stderr is always a pipe.
+        let bar = if rank == 0 && tracing::enabled!(tracing::Level::INFO) {
+            ProgressBar::with_draw_target(Some(total as u64), ProgressDrawTarget::stdout())
+        } else {
+            ProgressBar::hidden()
+        };
+        bar.set_style(
+            ProgressStyle::with_template(
+                "{prefix} [{bar:30}] {pos}/{len} {msg} ({elapsed_precise}, about {eta} left)",
+            )
+            .unwrap_or_else(|_| ProgressStyle::default_bar())
+            .progress_chars("=> "),
+        );
+        bar.set_prefix(stage.to_string());
+        if let Ok(mut c) = CURRENT.lock() {
+            *c = Some(bar.clone());
+        }
+        Progress { bar }
+    }
+
+    /// What the current step is doing, e.g. "mu 0.300".
+    pub fn message(&self, text: impl Into<String>) {
+        self.bar.set_message(text.into());
+    }
+
+    /// One step done.
+    pub fn step(&self) {
+        self.bar.inc(1);
+    }
+}
+
+impl Drop for Progress {
+    fn drop(&mut self) {
+        self.bar.finish_and_clear();
+        if let Ok(mut c) = CURRENT.lock() {
+            *c = None;
+        }
+    }
+}
+
+/// The log's writer: stderr, or, while a bar is drawn, the terminal above the bar.
+pub struct LogWriter;
+
+impl Write for LogWriter {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        let bar = CURRENT.lock().ok().and_then(|c| c.clone());
+        match bar {
+            // Drawn, the bar is on a terminal stdout: the line goes there too, above it, so
+            // that mpirun (which forwards a rank's stdout and stderr apart) cannot reorder them.
+            Some(bar) if !bar.is_hidden() => bar.suspend(|| {
+                let mut out = std::io::stdout();
+                out.write_all(buf)?;
+                out.flush()?;
+                Ok(buf.len())
+            }),
+            _ => std::io::stderr().write(buf),
+        }
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        std::io::stderr().flush()
+    }
+}
+
+impl<'a> tracing_subscriber::fmt::MakeWriter<'a> for LogWriter {
+    type Writer = LogWriter;
+    fn make_writer(&'a self) -> LogWriter {
+        LogWriter
+    }
+}
