@@ -546,6 +546,7 @@ fn main() -> ExitCode {
             if world.rank() == 0 {
                 eprintln!("squeal: error: {}", describe(&e));
             }
+            study::interrupt::failed(1);
             ExitCode::FAILURE
         }
         Err(e) => {

@@ -47,6 +47,46 @@ pub fn builtin(preset: &str) -> Result<Model, ModelError> {
 /// Reads a mesh file: `.msh` (Gmsh, no supports or materials of its own) or `.inp`
 /// (Abaqus/CalculiX: materials, sections, the first `*FREQUENCY` step's supports and loads).
 pub fn read(path: &Path) -> Result<Model, ModelError> {
+    let model = read_format(path)?;
+    check_elements(path, &model.mesh)?;
+    Ok(model)
+}
+
+/// Nodes named in a message about nodes in no element, at most.
+const NODE_EXAMPLES: usize = 5;
+
+/// Refuses a mesh file without elements, or with nodes no element uses: both parse, and
+/// both used to end in a raw solver error (SLEPc's "Illegal value of nev", MUMPS's
+/// singular-matrix code) or in `squeal mesh` naming its output instead of its input.
+fn check_elements(path: &Path, mesh: &Mesh) -> Result<(), ModelError> {
+    if mesh.elements.is_empty() {
+        return Err(ModelError::NoElements {
+            file: path.to_path_buf(),
+            nodes: mesh.nodes.len(),
+        });
+    }
+    let mut used = vec![false; mesh.nodes.len()];
+    for element in &mesh.elements {
+        for &n in element {
+            used[n] = true;
+        }
+    }
+    let unused: Vec<usize> = (0..used.len()).filter(|&n| !used[n]).collect();
+    if unused.is_empty() {
+        return Ok(());
+    }
+    Err(ModelError::NodesInNoElement {
+        file: path.to_path_buf(),
+        count: unused.len(),
+        examples: unused
+            .iter()
+            .take(NODE_EXAMPLES)
+            .map(|&n| (mesh.node_labels[n], mesh.nodes[n]))
+            .collect(),
+    })
+}
+
+fn read_format(path: &Path) -> Result<Model, ModelError> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
@@ -135,6 +175,14 @@ fn from_deck(path: &Path, deck: abaqus::Deck) -> Result<Model, ModelError> {
 /// Applies `--fix SET[:xyz]` (components default to all three).
 pub fn add_fix(model: &mut Model, spec: &str) -> Result<(), ModelError> {
     let (set, comps) = spec.split_once(':').unwrap_or((spec, "xyz"));
+    // "SET:" used to hold nothing, silently: a support that holds nothing is a typo.
+    if comps.trim().is_empty() {
+        return Err(ModelError::BadFix {
+            spec: spec.into(),
+            why: "no component after ':' (give SET:xyz, SET:x ..., or SET alone for all three)"
+                .into(),
+        });
+    }
     let mut components = [false; 3];
     for ch in comps.chars() {
         let c = match ch.to_ascii_lowercase() {

@@ -259,6 +259,12 @@ pub enum ConfigError {
     },
     #[error("{file}: {message}")]
     Syntax { file: PathBuf, message: String },
+    /// A study file without a single key.
+    #[error(
+        "{file}: the study is empty (no mesh, supports, loads or contacts): write one to start \
+         from with `squeal sweep --preset NAME --write-study FILE`"
+    )]
+    Empty { file: PathBuf },
     #[error("{file}: {key}: {message}")]
     Invalid {
         file: PathBuf,
@@ -474,6 +480,13 @@ impl Study {
             file: path.to_path_buf(),
             message: e.to_string(),
         })?;
+        // Every key has a default, so an empty file used to be the default study (the
+        // built-in brake without its supports, reported as a free disc after assembly).
+        if toml::from_str::<toml::Table>(&text).is_ok_and(|t| t.is_empty()) {
+            return Err(ConfigError::Empty {
+                file: path.to_path_buf(),
+            });
+        }
         let base = path.parent().unwrap_or(Path::new("."));
         if let Some(f) = &study.mesh.file {
             if f.is_relative() {
@@ -670,6 +683,30 @@ impl Study {
                 return Err(bad(
                     format!("springs[{i}].stiffness"),
                     format!("must be positive, got {}", s.stiffness),
+                ));
+            }
+            // A NaN direction used to pass into K and end the static in DIVERGED_FNORM_NAN.
+            if let SpringDirection::Vector(v) = &s.direction {
+                let length = v.iter().map(|c| c * c).sum::<f64>().sqrt();
+                if !(length > 0.0 && length.is_finite()) {
+                    return Err(bad(
+                        format!("springs[{i}].direction"),
+                        format!("must be a finite non-zero vector, got {v:?}"),
+                    ));
+                }
+            }
+        }
+        for (i, p) in self.pressures.iter().enumerate() {
+            // NaN used to end the static in DIVERGED_FNORM_NAN, 0 in a singular tangent with
+            // nothing pressing the pads on: both after the model was built and assembled.
+            if !(p.value.is_finite() && p.value != 0.0) {
+                return Err(bad(
+                    format!("pressures[{i}].value"),
+                    format!(
+                        "must be a finite, non-zero pressure (Pa), got {} (remove the entry to \
+                         load nothing there)",
+                        p.value
+                    ),
                 ));
             }
         }

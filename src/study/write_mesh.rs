@@ -2,12 +2,14 @@
 //! `.vtu` beside it, so a person can look at the model.
 
 use super::modes::load_model;
-use super::report::create_dir;
+use super::report::{collective, create_dir};
+use super::staging::file_among_ancestors;
 use super::StudyError;
 use crate::fem::element;
 use crate::io::gmsh;
 use crate::io::vtu::{Field, VtuWriter};
 use crate::mesh::Mesh;
+use crate::model::Model;
 use crate::petsc::Runtime;
 use std::path::{Path, PathBuf};
 
@@ -19,28 +21,63 @@ pub fn run(
     preset: &str,
     output: &Path,
 ) -> Result<(), StudyError> {
-    let model = load_model(rt, mesh, preset, &[], &[])?;
-    if rt.world().rank() != 0 {
-        return Ok(());
-    }
+    let comm = rt.world();
     let msh = if output.extension().is_some() {
         output.to_path_buf()
     } else {
         output.with_extension("msh")
     };
     let vtu: PathBuf = msh.with_extension("vtu");
+    // Rank 0 writes: it checks the paths before anything is read or built, and tells all.
+    let local = match comm.rank() {
+        0 => output_problem(&msh, &vtu),
+        _ => Ok(()),
+    };
+    collective(comm, local)?;
+    let model = load_model(rt, mesh, preset, &[], &[])?;
+    // A failed write (a full disc) is rank 0's alone: shared, so it is said once and no
+    // rank has to abort the others.
+    let local = match comm.rank() {
+        0 => write(&model, &msh, &vtu),
+        _ => Ok(()),
+    };
+    collective(comm, local)
+}
+
+/// The mesh files as rank 0 writes them, and the lines that say so.
+fn write(model: &Model, msh: &Path, vtu: &Path) -> Result<(), StudyError> {
     if let Some(dir) = msh.parent().filter(|d| !d.as_os_str().is_empty()) {
         create_dir(dir)?;
     }
-    gmsh::write(&msh, &model.mesh)?;
+    gmsh::write(msh, &model.mesh)?;
     let parts = Field::part_ids(&model.mesh, 0);
     let surfaces = surface_field(&model.mesh);
     VtuWriter::new(&model.mesh)
         .cell_field(&parts)
         .point_field(&surfaces)
-        .write(&vtu)?;
+        .write(vtu)?;
     println!("{}", describe(&model.mesh, &model.source));
     println!("wrote {} and {}", msh.display(), vtu.display());
+    Ok(())
+}
+
+/// Refuses output paths the files cannot be written to: a folder where a file goes (once
+/// found only after the .msh was written, which was left behind), a file where a folder
+/// goes.
+fn output_problem(msh: &Path, vtu: &Path) -> Result<(), StudyError> {
+    for path in [msh, vtu] {
+        let why = if path.is_dir() {
+            Some(format!("{} is a folder", path.display()))
+        } else {
+            file_among_ancestors(path)
+        };
+        if let Some(why) = why {
+            return Err(StudyError::OutputInTheWay {
+                path: msh.to_path_buf(),
+                why,
+            });
+        }
+    }
     Ok(())
 }
 

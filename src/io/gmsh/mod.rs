@@ -59,7 +59,27 @@ pub fn read(path: &Path) -> Result<Mesh, MeshError> {
 
 /// Parse the contents of a Gmsh mesh file; `file` is only used in error messages.
 pub fn parse(file: &Path, bytes: &[u8]) -> Result<Mesh, MeshError> {
-    let raw = Parser::new(file, bytes).run()?;
+    let raw = match Parser::new(file, bytes).run() {
+        Ok(raw) => raw,
+        // A check word written in the other byte order than the numbers after it made the
+        // numbers garbage, reported as "it is truncated" far from the cause: when they read
+        // whole against the check word, the check word is what is wrong.
+        Err(e @ MeshError::Binary { .. }) => {
+            return Err(
+                match Parser::new(file, bytes).against_byte_order_check().run() {
+                    Ok(_) => MeshError::invalid(
+                        file,
+                        "the byte-order check (the integer 1 after the $MeshFormat line) is \
+                         in the other byte order than the numbers after it, which read whole \
+                         in theirs: the check word is wrong (the file was altered after it \
+                         was written)",
+                    ),
+                    Err(_) => e,
+                },
+            )
+        }
+        Err(e) => return Err(e),
+    };
     build(file, raw)
 }
 
