@@ -247,8 +247,12 @@ pub fn add_material(model: &mut Model, spec: &str) -> Result<(), ModelError> {
             numbers.len()
         )));
     };
-    if !(young > 0.0 && poisson > -1.0 && poisson < 0.5 && density > 0.0) {
-        return Err(bad("need E > 0, -1 < nu < 0.5, rho > 0".into()));
+    // An infinite E or rho used to pass and fill K or M with inf.
+    let finite = young.is_finite() && density.is_finite();
+    if !(finite && young > 0.0 && poisson > -1.0 && poisson < 0.5 && density > 0.0) {
+        return Err(bad(
+            "need finite E > 0, -1 < nu < 0.5, finite rho > 0".into()
+        ));
     }
     let names: Vec<String> = model.mesh.parts.iter().map(|p| p.name.clone()).collect();
     let p = model

@@ -735,10 +735,12 @@ impl Study {
             }
         }
         for (i, m) in self.materials.iter().enumerate() {
-            if !(m.young > 0.0 && m.poisson > -1.0 && m.poisson < 0.5 && m.density > 0.0) {
+            let finite = m.young.is_finite() && m.density.is_finite();
+            if !(finite && m.young > 0.0 && m.poisson > -1.0 && m.poisson < 0.5 && m.density > 0.0)
+            {
                 return Err(bad(
                     format!("materials[{i}]"),
-                    "need young > 0, -1 < poisson < 0.5, density > 0".into(),
+                    "need finite young > 0, -1 < poisson < 0.5, finite density > 0".into(),
                 ));
             }
         }
