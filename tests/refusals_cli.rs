@@ -290,6 +290,48 @@ fn paths_are_named_with_what_is_wrong_with_them() {
         &under,
     );
     assert_says(&e, &["afile is a file, not a folder"]);
+    // The commands whose rank 0 alone writes one file: refused before any work (bench,
+    // superelement) or at the write, said once either way (they ended in MPI_ABORT).
+    for (args, target) in [
+        (
+            vec!["bench", "--presets", "tiny", "--repeat", "1"],
+            file.join("b.json"),
+        ),
+        (
+            vec![
+                "superelement",
+                "--preset",
+                "tiny",
+                "--contact-nodes-per-pad",
+                "6",
+            ],
+            file.join("x.sqse"),
+        ),
+    ] {
+        let mut args = args.clone();
+        args.extend_from_slice(&["-o", s(&target)]);
+        let e = refused(2, &args, &target);
+        assert_says(&e, &["afile is a file, not a folder"]);
+    }
+    let study = file.join("s.toml");
+    let e = refused(
+        2,
+        &["sweep", "--preset", "tiny", "--write-study", s(&study)],
+        &study,
+    );
+    assert_says(&e, &["s.toml", "afile is a file, not a folder"]);
+    let e = refused(
+        2,
+        &[
+            "bench",
+            "--presets",
+            "tiny,huge",
+            "-o",
+            s(&dir.join("b.json")),
+        ],
+        &dir.join("b.json"),
+    );
+    assert_says(&e, &["unknown preset 'huge'"]);
     assert_eq!(std::fs::read(&file).unwrap(), b"keep me");
 
     std::fs::create_dir_all(dir.join("x.vtu")).unwrap();

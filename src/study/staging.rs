@@ -176,9 +176,14 @@ fn prepare(output: &Path, partial: &Path) -> Result<(), StudyError> {
 /// Why no folder can be made at `path`'s parent: the nearest of its ancestors that exists is
 /// a file (`-o afile/x.msh` used to say "creating afile: File exists (os error 17)").
 pub(super) fn file_among_ancestors(path: &Path) -> Option<String> {
-    let existing = path
+    path.parent().and_then(not_a_folder)
+}
+
+/// Why no folder can be made at `dir`: it, or the nearest of its ancestors that exists, is
+/// a file.
+pub(super) fn not_a_folder(dir: &Path) -> Option<String> {
+    let existing = dir
         .ancestors()
-        .skip(1)
         .filter(|a| !a.as_os_str().is_empty())
         .find(|a| std::fs::symlink_metadata(a).is_ok())?;
     (!existing.is_dir()).then(|| format!("{} is a file, not a folder", existing.display()))

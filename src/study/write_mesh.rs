@@ -2,8 +2,7 @@
 //! `.vtu` beside it, so a person can look at the model.
 
 use super::modes::load_model;
-use super::report::{collective, create_dir};
-use super::staging::file_among_ancestors;
+use super::report::{create_dir, on_root, output_file_problem};
 use super::StudyError;
 use crate::fem::element;
 use crate::io::gmsh;
@@ -29,19 +28,9 @@ pub fn run(
     };
     let vtu: PathBuf = msh.with_extension("vtu");
     // Rank 0 writes: it checks the paths before anything is read or built, and tells all.
-    let local = match comm.rank() {
-        0 => output_problem(&msh, &vtu),
-        _ => Ok(()),
-    };
-    collective(comm, local)?;
+    on_root(comm, || output_problem(&msh, &vtu))?;
     let model = load_model(rt, mesh, preset, &[], &[])?;
-    // A failed write (a full disc) is rank 0's alone: shared, so it is said once and no
-    // rank has to abort the others.
-    let local = match comm.rank() {
-        0 => write(&model, &msh, &vtu),
-        _ => Ok(()),
-    };
-    collective(comm, local)
+    on_root(comm, || write(&model, &msh, &vtu))
 }
 
 /// The mesh files as rank 0 writes them, and the lines that say so.
@@ -65,20 +54,13 @@ fn write(model: &Model, msh: &Path, vtu: &Path) -> Result<(), StudyError> {
 /// found only after the .msh was written, which was left behind), a file where a folder
 /// goes.
 fn output_problem(msh: &Path, vtu: &Path) -> Result<(), StudyError> {
-    for path in [msh, vtu] {
-        let why = if path.is_dir() {
-            Some(format!("{} is a folder", path.display()))
-        } else {
-            file_among_ancestors(path)
-        };
-        if let Some(why) = why {
-            return Err(StudyError::OutputInTheWay {
-                path: msh.to_path_buf(),
-                why,
-            });
-        }
+    match [msh, vtu].into_iter().find_map(output_file_problem) {
+        Some(why) => Err(StudyError::OutputInTheWay {
+            path: msh.to_path_buf(),
+            why,
+        }),
+        None => Ok(()),
     }
-    Ok(())
 }
 
 /// A point field numbering the named surfaces (0 = none), to see them in ParaView.
