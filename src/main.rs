@@ -218,7 +218,7 @@ enum Command {
         /// Every mode from 0 up to this frequency (Hz).
         #[arg(long, default_value_t = 6000.0)]
         fmax: f64,
-        /// Real part (1/s) above which a mode is unstable.
+        /// Unstable when Re(lambda) > this * |lambda|.
         #[arg(long, default_value_t = squeal::analysis::cea::CeaOptions::default().unstable_threshold)]
         unstable_threshold: f64,
         /// k_l of the cubic contact law, N/m (default: each pair's penalty x area).
