@@ -365,3 +365,45 @@ fn a_binary_msh_with_a_wrong_byte_order_check_says_so() {
     );
     assert!(!e.contains("truncated"), "{e}");
 }
+
+/// Flags every rank refuses alike were said by each rank, interleaved mid-line, before an
+/// MPI_ABORT banner and an "interrupted by SIGTERM": now once.
+#[test]
+fn flags_every_rank_refuses_are_said_once() {
+    let dir = scratch("flags");
+    let out = dir.join("out");
+    for (args, words) in [
+        (
+            &[
+                "sweep",
+                "--preset",
+                "tiny",
+                "--disc-coupling",
+                "distributing",
+            ][..],
+            &["--disc-coupling", "--contact-nodes-per-pad"][..],
+        ),
+        (
+            &[
+                "sweep",
+                "--preset",
+                "tiny",
+                "--contact-nodes-per-pad",
+                "6",
+                "--radius",
+                "foo",
+            ],
+            &["--radius", "got foo"],
+        ),
+        // Its help said "a real part (1/s)"; it is the fraction of |lambda| the CEA uses.
+        (
+            &["assemble", "missing.sqse", "--unstable-threshold", "nan"],
+            &["--unstable-threshold", "[0, 1)"],
+        ),
+    ] {
+        let mut args = args.to_vec();
+        args.extend_from_slice(&["-o", s(&out)]);
+        let e = refused(2, &args, &out);
+        assert_says(&e, words);
+    }
+}
