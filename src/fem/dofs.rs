@@ -193,6 +193,22 @@ mod tests {
     }
 
     #[test]
+    fn supports_that_hold_everything_are_refused_by_name() {
+        let all = Support {
+            name: "NALL".into(),
+            nodes: vec![0, 1],
+            components: [true; 3],
+        };
+        let e = DofMap::new(2, 0, &[all], 1, 0).unwrap_err().to_string();
+        assert!(
+            e.contains("NALL") && e.contains("every degree of freedom"),
+            "{e}"
+        );
+        // No node at all is no support's doing.
+        assert_eq!(DofMap::new(0, 0, &[], 1, 0).unwrap().equations(), 0);
+    }
+
+    #[test]
     fn ranks_get_contiguous_node_blocks_covering_everything_once() {
         for ranks in 1..=5 {
             let maps: Vec<DofMap> = (0..ranks)

@@ -279,3 +279,50 @@ pub fn add_material(model: &mut Model, spec: &str) -> Result<(), ModelError> {
     );
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::block::block;
+
+    fn steel() -> Material {
+        Material {
+            name: "steel".into(),
+            young: 210e9,
+            poisson: 0.3,
+            density: 7850.0,
+        }
+    }
+
+    #[test]
+    fn mesh_files_without_elements_or_with_nodes_in_none_are_refused() {
+        let file = Path::new("deck.inp");
+        let mut mesh = block([0.0; 3], [1.0; 3], [1, 1, 1], steel()).unwrap();
+        check_elements(file, &mesh).unwrap();
+        mesh.nodes.push([9.0, 8.0, 7.0]);
+        mesh.node_labels.push(9999);
+        let e = check_elements(file, &mesh).unwrap_err().to_string();
+        assert!(
+            e.starts_with("deck.inp: 1 node(s) belong to no element")
+                && e.contains("9999: 9.000000e0, 8.000000e0, 7.000000e0"),
+            "{e}"
+        );
+        mesh.elements.clear();
+        let e = check_elements(file, &mesh).unwrap_err().to_string();
+        assert!(e.starts_with("deck.inp: the mesh has no elements"), "{e}");
+    }
+
+    #[test]
+    fn a_fix_with_no_component_is_refused() {
+        let mut model = Model {
+            mesh: block([0.0; 3], [1.0; 3], [1, 1, 1], steel()).unwrap(),
+            ..Default::default()
+        };
+        let set = model.mesh.node_sets.keys().next().cloned().unwrap();
+        let e = add_fix(&mut model, &format!("{set}:"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("no component"), "{e}");
+        add_fix(&mut model, &format!("{set}:x")).unwrap();
+    }
+}

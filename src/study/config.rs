@@ -761,6 +761,22 @@ mod tests {
     }
 
     #[test]
+    fn empty_files_nan_directions_and_null_pressures_are_refused_by_key() {
+        let e = Study::read(&write("empty.toml", "# nothing\n")).unwrap_err();
+        assert!(e.to_string().contains("the study is empty"), "{e}");
+        let mut study = Study::builtin("tiny");
+        study.springs[0].direction = SpringDirection::Vector([f64::NAN, 0.0, 1.0]);
+        let e = study.check(Path::new("s.toml")).unwrap_err().to_string();
+        assert!(e.contains("springs[0].direction"), "{e}");
+        for value in [f64::NAN, 0.0] {
+            let mut study = Study::builtin("tiny");
+            study.pressures[1].value = value;
+            let e = study.check(Path::new("s.toml")).unwrap_err().to_string();
+            assert!(e.contains("pressures[1].value"), "{e}");
+        }
+    }
+
+    #[test]
     fn the_builtin_study_round_trips_through_toml() {
         let s = Study::builtin("tiny");
         let text = toml::to_string(&s).unwrap();

@@ -90,6 +90,23 @@ mod tests {
     use crate::mesh::{TET10_EDGES, TET10_FACES};
     use std::collections::BTreeSet;
 
+    /// A check word in the other byte order than the numbers after it is named as such,
+    /// not reported as a truncated file far from the cause.
+    #[test]
+    fn a_check_word_in_the_wrong_byte_order_is_named() {
+        for big_endian in [false, true] {
+            let mut bytes = two_tets_binary(big_endian);
+            let at = b"$MeshFormat\n4.1 1 8\n".len();
+            bytes[at..at + 4].reverse();
+            let message = parse(&p("b.msh"), &bytes).unwrap_err().to_string();
+            assert!(
+                message.contains("byte-order check") && message.contains("check word is wrong"),
+                "{message}"
+            );
+            assert!(!message.contains("truncated"), "{message}");
+        }
+    }
+
     #[test]
     fn reads_msh41_ascii() {
         check_two_tets(&parse_str(TWO_TETS_41).unwrap());
