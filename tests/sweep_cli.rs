@@ -189,6 +189,10 @@ fn cea_flags_out_of_range_are_refused_up_front() {
         // flag=value: a value that starts with '-' is not taken for a flag.
         ("--fmax", "1e300", "above"),
         ("--fmax", "inf", "finite"),
+        // omega^2 underflows: was "0 modes" and success.
+        ("--fmax", "1e-300", "below"),
+        // Was refused as "--modes-per-target", a flag there is not.
+        ("--window", "0", "at least 1"),
         ("--unstable-threshold", "-1", "[0, 1)"),
         ("--unstable-threshold", "nan", "[0, 1)"),
     ] {
