@@ -559,6 +559,9 @@ fn main() -> ExitCode {
                 eprintln!("squeal: error: {}", describe(&e));
             }
             study::interrupt::failed(1);
+            // mpirun stops the ranks still running when one exits with failure: the others
+            // wait until rank 0 has said why, or its message could be cut off.
+            world.barrier();
             ExitCode::FAILURE
         }
         Err(e) => {
