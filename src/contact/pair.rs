@@ -494,8 +494,8 @@ pub fn node_to_surface(
         if k > MAX_PENALTY_RATIO * default {
             return Err(invalid(format!(
                 "penalty {k:e} Pa/m is {:.1e} times the default 10 E_min / h = {default:.3e} \
-                 Pa/m: the contact stiffness would swamp the bodies' (whose digits K then \
-                 loses), and the static fail as if a body were free; give at most \
+                 Pa/m: a contact stiffness that swamps the bodies' own leaves K none of their \
+                 digits, and the static fails as if a body were free; give at most \
                  {MAX_PENALTY_RATIO:e} times the default",
                 k / default
             )));
