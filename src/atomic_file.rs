@@ -20,10 +20,13 @@ pub fn write_with(
     })?;
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         if !dir.is_dir() {
-            return Err(std::io::Error::new(
-                std::io::ErrorKind::NotFound,
-                format!("folder {} does not exist", dir.display()),
-            ));
+            // "Does not exist" was said of a file in the folder's place too.
+            let why = if dir.exists() {
+                format!("{} is a file, not a folder", dir.display())
+            } else {
+                format!("folder {} does not exist", dir.display())
+            };
+            return Err(std::io::Error::new(std::io::ErrorKind::NotFound, why));
         }
     }
     let dir = match path.parent() {

@@ -250,7 +250,7 @@ enum Command {
         /// Every mode from 0 up to this frequency (Hz).
         #[arg(long, default_value_t = 6000.0)]
         fmax: f64,
-        /// Real part (1/s) above which a mode is unstable.
+        /// Unstable when Re(lambda) > this * |lambda|.
         #[arg(long, default_value_t = squeal::analysis::cea::CeaOptions::default().unstable_threshold)]
         unstable_threshold: f64,
         /// k_l of the cubic contact law, N/m (default: each pair's penalty x area).
@@ -323,7 +323,9 @@ enum DiscCouplingArg {
     Distributing,
 }
 
-/// The `[reduction]` the sweep flags ask for (none without a count or spacing).
+/// The `[reduction]` the sweep flags ask for (none without a count or spacing). Its
+/// refusals are every rank's (the same flags everywhere): collective, said once (they were
+/// said by each rank, interleaved, before an MPI_ABORT banner).
 fn reduction_flags(
     flags: &InterfaceFlags,
 ) -> anyhow::Result<Option<squeal::study::config::ReductionSpec>> {
@@ -338,11 +340,19 @@ fn reduction_flags(
     use squeal::reduce::{DiscCoupling, RadiusChoice, Weighting};
     if count.is_none() && spacing.is_none() {
         if disc_coupling.is_some() || area_weighting {
-            anyhow::bail!(
-                "--disc-coupling and --area-weighting set up a reduced interface: give \
-                 --contact-nodes-per-pad or --spacing too (or reduction.disc_coupling and \
-                 reduction.area_weighting in the study file)"
-            );
+            return Err(study::StudyError::BadFlag {
+                flag: if disc_coupling.is_some() {
+                    "--disc-coupling"
+                } else {
+                    "--area-weighting"
+                },
+                why: "sets up a reduced interface: give --contact-nodes-per-pad or --spacing \
+                      too (or reduction.disc_coupling and reduction.area_weighting in the \
+                      study file)"
+                    .into(),
+            }
+            .collective()
+            .into());
         }
         return Ok(None);
     }
@@ -350,9 +360,11 @@ fn reduction_flags(
         "grid-optimal" => RadiusChoice::GridOptimal,
         "paper" => RadiusChoice::Paper,
         other => RadiusChoice::Length(other.parse().map_err(|_| {
-            anyhow::anyhow!(
-                "--radius {other}: expected grid-optimal, paper or a length in mesh units"
-            )
+            study::StudyError::BadFlag {
+                flag: "--radius",
+                why: format!("expected grid-optimal, paper or a length in mesh units, got {other}"),
+            }
+            .collective()
         })?),
     };
     let mut spec = squeal::study::config::ReductionSpec::with_count(count.unwrap_or(0));
@@ -601,9 +613,14 @@ fn main() -> ExitCode {
             if world.rank() == 0 {
                 eprintln!("squeal: error: {}", describe(&e));
             }
+            study::interrupt::failed(1);
+            // mpirun stops the ranks still running when one exits with failure: the others
+            // wait until rank 0 has said why, or its message could be cut off.
+            world.barrier();
             ExitCode::FAILURE
         }
         Err(e) => {
+            study::interrupt::failed(1);
             if world.size() > 1 {
                 eprintln!("squeal: error on rank {}: {}", world.rank(), describe(&e));
                 // The other ranks may be waiting in a collective call: stop them all.

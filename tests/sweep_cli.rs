@@ -189,6 +189,10 @@ fn cea_flags_out_of_range_are_refused_up_front() {
         // flag=value: a value that starts with '-' is not taken for a flag.
         ("--fmax", "1e300", "above"),
         ("--fmax", "inf", "finite"),
+        // omega^2 underflows: was "0 modes" and success.
+        ("--fmax", "1e-300", "below"),
+        // Was refused as "--modes-per-target", a flag there is not.
+        ("--window", "0", "at least 1"),
         ("--unstable-threshold", "-1", "[0, 1)"),
         ("--unstable-threshold", "nan", "[0, 1)"),
     ] {
@@ -725,4 +729,85 @@ fn compare_reads_sweep_folders_and_measures_the_reduced_model() {
         })
         .count();
     assert!(svgs >= 2, "{svgs} plots");
+}
+
+/// The numbers of a sweep that must not depend on the rank count, each with the scale its
+/// difference is measured against: every eigenvalue (frequency and real part against
+/// |lambda|), and per contact pair the equilibrium's forces, torque, radius, pressures and
+/// point counts, and the load balance.
+fn rank_independent_numbers(sweep: &serde_json::Value) -> Vec<(String, f64, f64)> {
+    let mut out = Vec::new();
+    for p in sweep["points"].as_array().unwrap() {
+        let mu = p["friction"].as_f64().unwrap();
+        for (k, (f, re, _)) in common::eigenvalues_of(p).into_iter().enumerate() {
+            let size = (2.0 * std::f64::consts::PI * f).hypot(re);
+            out.push((format!("mu {mu}: mode {k} frequency"), f, size));
+            out.push((format!("mu {mu}: mode {k} real part"), re, size));
+        }
+        for pair in p["contact"].as_array().unwrap() {
+            for key in [
+                "normal_force",
+                "friction_force",
+                "braking_torque",
+                "effective_radius",
+                "pressure_min",
+                "pressure_max",
+                "pressure_mean",
+                "closed",
+                "slip",
+                "stick",
+            ] {
+                let v = pair[key].as_f64().unwrap();
+                out.push((format!("mu {mu}: {} {key}", pair["name"]), v, v.abs()));
+            }
+        }
+        let balance = p["balance_ratio"].as_f64().unwrap();
+        out.push((format!("mu {mu}: balance_ratio"), balance, 1.0));
+    }
+    out
+}
+
+/// The same sweep of the tiny brake on 1, 2, 3 and 4 ranks (oversubscribed on 2 cores):
+/// the node blocks, ownership ranges and reductions change with the rank count, the numbers
+/// must not. Measured: 1.3e-12 at worst (a pad's smallest contact pressure, 3 ranks).
+#[test]
+fn a_sweep_gives_the_same_numbers_on_one_to_four_ranks() {
+    let dir = scratch("ranks");
+    let mut runs = Vec::new();
+    for ranks in 1..=4 {
+        let out = dir.join(format!("n{ranks}"));
+        success(
+            ranks,
+            &[
+                "sweep",
+                "--preset",
+                "tiny",
+                "--friction",
+                "0.2,0.6",
+                "--fmax",
+                "6000",
+                "-o",
+                out.to_str().unwrap(),
+            ],
+        );
+        let json: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(out.join("sweep.json")).unwrap()).unwrap();
+        runs.push((ranks, rank_independent_numbers(&json)));
+    }
+    let (_, one) = &runs[0];
+    assert!(
+        one.iter().any(|(what, _, _)| what.contains("mode")),
+        "{one:?}"
+    );
+    for (ranks, other) in &runs[1..] {
+        let names = |r: &[(String, f64, f64)]| r.iter().map(|x| x.0.clone()).collect::<Vec<_>>();
+        assert_eq!(names(one), names(other), "1 rank vs {ranks}");
+        for ((what, a, scale), (_, b, _)) in one.iter().zip(other) {
+            let relative = (a - b).abs() / scale.max(1e-300);
+            assert!(
+                relative <= 1e-8,
+                "{what}: {a} on 1 rank, {b} on {ranks} ({relative:e})"
+            );
+        }
+    }
 }

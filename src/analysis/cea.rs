@@ -75,11 +75,22 @@ impl Default for CeaOptions {
 /// before saying anything.
 pub const MAX_BAND_HZ: f64 = 1e6;
 
-/// Why `max_frequency_hz` cannot be a band's top (finite, > 0, at most [`MAX_BAND_HZ`]).
+/// The lowest band a study may ask for: a mode with a period of over a quarter of an hour
+/// is no structural mode, and below about 1e-154 Hz the band's top omega^2 underflows to 0
+/// (`--fmax 1e-300` used to report "0 modes" as a success).
+pub const MIN_BAND_HZ: f64 = 1e-3;
+
+/// Why `max_frequency_hz` cannot be a band's top (finite, in [[`MIN_BAND_HZ`],
+/// [`MAX_BAND_HZ`]]).
 pub fn band_problem(max_frequency_hz: f64) -> Option<String> {
     if !(max_frequency_hz > 0.0 && max_frequency_hz.is_finite()) {
         Some(format!(
             "must be a finite frequency > 0 (Hz), got {max_frequency_hz}"
+        ))
+    } else if max_frequency_hz < MIN_BAND_HZ {
+        Some(format!(
+            "{max_frequency_hz:e} Hz is below the {MIN_BAND_HZ:e} Hz a structural band can \
+             mean (its omega^2 is at round-off, or underflows, next to any stiffness)"
         ))
     } else if max_frequency_hz > MAX_BAND_HZ {
         Some(format!(

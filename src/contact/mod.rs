@@ -67,7 +67,8 @@ pub enum ContactError {
     },
 }
 
-fn format_examples(examples: &[(i64, [f64; 3])]) -> String {
+/// Nodes as "label: x, y, z; ..." for messages that name a few of them.
+pub(crate) fn format_examples(examples: &[(i64, [f64; 3])]) -> String {
     examples
         .iter()
         .map(|(label, x)| format!("{label}: {:.6e}, {:.6e}, {:.6e}", x[0], x[1], x[2]))

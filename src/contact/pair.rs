@@ -421,6 +421,12 @@ fn smallest_young(mesh: &Mesh, surfaces: &[(&Surface, &str)]) -> Result<f64, Str
     Ok(smallest)
 }
 
+/// A given penalty may be at most this many times the default 10 E_min / h. A penalty a
+/// million times the bodies' own stiffness already costs K six of its sixteen digits; at
+/// 1e300 Pa/m the static stopped with "the tangent stiffness is singular: 'disc' is free",
+/// which blamed the supports.
+const MAX_PENALTY_RATIO: f64 = 1e6;
+
 /// Slave nodes that did not project are listed up to this many in the error.
 const UNPROJECTED_EXAMPLES: usize = 10;
 
@@ -469,16 +475,32 @@ pub fn node_to_surface(
             master.name
         ))
     })?;
+    if slave.faces == master.faces {
+        return Err(invalid(format!(
+            "the slave surface '{}' and the master surface '{}' are the same faces: a pair is \
+             two surfaces facing each other",
+            slave.name, master.name
+        )));
+    }
     let h = search.mean_face_size();
+    let young = smallest_young(mesh, &[(slave, "slave"), (master, "master")]);
     let penalty = match settings.penalty {
         Some(k) => k,
-        None => {
-            let young =
-                smallest_young(mesh, &[(slave, "slave"), (master, "master")]).map_err(invalid)?;
-            10.0 * young / h
-        }
+        None => 10.0 * young.clone().map_err(invalid)? / h,
     };
     check_penalty(penalty).map_err(invalid)?;
+    if let (Some(k), Ok(young)) = (settings.penalty, young) {
+        let default = 10.0 * young / h;
+        if k > MAX_PENALTY_RATIO * default {
+            return Err(invalid(format!(
+                "penalty {k:e} Pa/m is {:.1e} times the default 10 E_min / h = {default:.3e} \
+                 Pa/m: a contact stiffness that swamps the bodies' own leaves K none of their \
+                 digits, and the static fails as if a body were free; give at most \
+                 {MAX_PENALTY_RATIO:e} times the default",
+                k / default
+            )));
+        }
+    }
 
     let tolerance = options.in_face_tolerance;
     let max_distance = options.max_distance.unwrap_or(h);

@@ -21,6 +21,13 @@ pub struct Support {
 pub enum DofError {
     #[error("support {support}: node index {node} is not in the model")]
     NodeOutside { support: String, node: usize },
+    /// The supports leave no equation: there is nothing to solve (`--fix NALL` used to end
+    /// in MUMPS's "INFOG(1)=-16" on a 0 x 0 matrix).
+    #[error(
+        "the supports ({supports}) hold every degree of freedom of the {nodes} nodes: no \
+         equation is left to solve"
+    )]
+    EverythingHeld { supports: String, nodes: usize },
 }
 
 /// The DOF numbering of a model, identical on every rank, with each rank's share.
@@ -70,6 +77,16 @@ impl DofMap {
             }
         }
         let total = next as usize;
+        if total == 0 && nodes > 0 {
+            return Err(DofError::EverythingHeld {
+                supports: supports
+                    .iter()
+                    .map(|s| s.name.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                nodes,
+            });
+        }
         // Cut after the node where the running equation count passes r * total / ranks.
         let mut node_start = vec![0usize; ranks + 1];
         let mut equation_start = vec![0usize; ranks + 1];
@@ -173,6 +190,22 @@ mod tests {
         assert_eq!(m.mesh_nodes(), 3);
         let u = m.displacements(&(0..10).map(|i| i as f64).collect::<Vec<_>>());
         assert_eq!(u[1], [0.0, 3.0, 0.0]);
+    }
+
+    #[test]
+    fn supports_that_hold_everything_are_refused_by_name() {
+        let all = Support {
+            name: "NALL".into(),
+            nodes: vec![0, 1],
+            components: [true; 3],
+        };
+        let e = DofMap::new(2, 0, &[all], 1, 0).unwrap_err().to_string();
+        assert!(
+            e.contains("NALL") && e.contains("every degree of freedom"),
+            "{e}"
+        );
+        // No node at all is no support's doing.
+        assert_eq!(DofMap::new(0, 0, &[], 1, 0).unwrap().equations(), 0);
     }
 
     #[test]

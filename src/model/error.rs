@@ -17,6 +17,25 @@ pub enum ModelError {
         #[source]
         source: brake::BrakeError,
     },
+    /// A mesh file with no (supported) element: nothing to assemble or to write.
+    #[error(
+        "{file}: the mesh has no elements ({nodes} nodes): squeal needs 10-node tetrahedra \
+         (C3D10 in a deck, type 11 in Gmsh)"
+    )]
+    NoElements { file: PathBuf, nodes: usize },
+    /// Nodes of a mesh file that no element uses: nothing holds them, so K is singular
+    /// there (MUMPS used to stop on it with "INFOG(1)=-10"). `examples` are the first few,
+    /// as (label, coordinates).
+    #[error(
+        "{file}: {count} node(s) belong to no element, so nothing holds them; first ones \
+         (label: x, y, z): {}; remove them from the file or mesh them",
+        crate::contact::format_examples(examples)
+    )]
+    NodesInNoElement {
+        file: PathBuf,
+        count: usize,
+        examples: Vec<(i64, [f64; 3])>,
+    },
     #[error("{file}: unknown mesh format (expected .msh or .inp)")]
     UnknownFormat { file: PathBuf },
     #[error("--fix {spec}: {why}")]

@@ -47,6 +47,46 @@ pub fn builtin(preset: &str) -> Result<Model, ModelError> {
 /// Reads a mesh file: `.msh` (Gmsh, no supports or materials of its own) or `.inp`
 /// (Abaqus/CalculiX: materials, sections, the first `*FREQUENCY` step's supports and loads).
 pub fn read(path: &Path) -> Result<Model, ModelError> {
+    let model = read_format(path)?;
+    check_elements(path, &model.mesh)?;
+    Ok(model)
+}
+
+/// Nodes named in a message about nodes in no element, at most.
+const NODE_EXAMPLES: usize = 5;
+
+/// Refuses a mesh file without elements, or with nodes no element uses: both parse, and
+/// both used to end in a raw solver error (SLEPc's "Illegal value of nev", MUMPS's
+/// singular-matrix code) or in `squeal mesh` naming its output instead of its input.
+fn check_elements(path: &Path, mesh: &Mesh) -> Result<(), ModelError> {
+    if mesh.elements.is_empty() {
+        return Err(ModelError::NoElements {
+            file: path.to_path_buf(),
+            nodes: mesh.nodes.len(),
+        });
+    }
+    let mut used = vec![false; mesh.nodes.len()];
+    for element in &mesh.elements {
+        for &n in element {
+            used[n] = true;
+        }
+    }
+    let unused: Vec<usize> = (0..used.len()).filter(|&n| !used[n]).collect();
+    if unused.is_empty() {
+        return Ok(());
+    }
+    Err(ModelError::NodesInNoElement {
+        file: path.to_path_buf(),
+        count: unused.len(),
+        examples: unused
+            .iter()
+            .take(NODE_EXAMPLES)
+            .map(|&n| (mesh.node_labels[n], mesh.nodes[n]))
+            .collect(),
+    })
+}
+
+fn read_format(path: &Path) -> Result<Model, ModelError> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
@@ -135,6 +175,14 @@ fn from_deck(path: &Path, deck: abaqus::Deck) -> Result<Model, ModelError> {
 /// Applies `--fix SET[:xyz]` (components default to all three).
 pub fn add_fix(model: &mut Model, spec: &str) -> Result<(), ModelError> {
     let (set, comps) = spec.split_once(':').unwrap_or((spec, "xyz"));
+    // "SET:" used to hold nothing, silently: a support that holds nothing is a typo.
+    if comps.trim().is_empty() {
+        return Err(ModelError::BadFix {
+            spec: spec.into(),
+            why: "no component after ':' (give SET:xyz, SET:x ..., or SET alone for all three)"
+                .into(),
+        });
+    }
     let mut components = [false; 3];
     for ch in comps.chars() {
         let c = match ch.to_ascii_lowercase() {
@@ -199,8 +247,12 @@ pub fn add_material(model: &mut Model, spec: &str) -> Result<(), ModelError> {
             numbers.len()
         )));
     };
-    if !(young > 0.0 && poisson > -1.0 && poisson < 0.5 && density > 0.0) {
-        return Err(bad("need E > 0, -1 < nu < 0.5, rho > 0".into()));
+    // An infinite E or rho used to pass and fill K or M with inf.
+    let finite = young.is_finite() && density.is_finite();
+    if !(finite && young > 0.0 && poisson > -1.0 && poisson < 0.5 && density > 0.0) {
+        return Err(bad(
+            "need finite E > 0, -1 < nu < 0.5, finite rho > 0".into()
+        ));
     }
     let names: Vec<String> = model.mesh.parts.iter().map(|p| p.name.clone()).collect();
     let p = model
@@ -226,4 +278,51 @@ pub fn add_material(model: &mut Model, spec: &str) -> Result<(), ModelError> {
         },
     );
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::block::block;
+
+    fn steel() -> Material {
+        Material {
+            name: "steel".into(),
+            young: 210e9,
+            poisson: 0.3,
+            density: 7850.0,
+        }
+    }
+
+    #[test]
+    fn mesh_files_without_elements_or_with_nodes_in_none_are_refused() {
+        let file = Path::new("deck.inp");
+        let mut mesh = block([0.0; 3], [1.0; 3], [1, 1, 1], steel()).unwrap();
+        check_elements(file, &mesh).unwrap();
+        mesh.nodes.push([9.0, 8.0, 7.0]);
+        mesh.node_labels.push(9999);
+        let e = check_elements(file, &mesh).unwrap_err().to_string();
+        assert!(
+            e.starts_with("deck.inp: 1 node(s) belong to no element")
+                && e.contains("9999: 9.000000e0, 8.000000e0, 7.000000e0"),
+            "{e}"
+        );
+        mesh.elements.clear();
+        let e = check_elements(file, &mesh).unwrap_err().to_string();
+        assert!(e.starts_with("deck.inp: the mesh has no elements"), "{e}");
+    }
+
+    #[test]
+    fn a_fix_with_no_component_is_refused() {
+        let mut model = Model {
+            mesh: block([0.0; 3], [1.0; 3], [1, 1, 1], steel()).unwrap(),
+            ..Default::default()
+        };
+        let set = model.mesh.node_sets.keys().next().cloned().unwrap();
+        let e = add_fix(&mut model, &format!("{set}:"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("no component"), "{e}");
+        add_fix(&mut model, &format!("{set}:x")).unwrap();
+    }
 }

@@ -83,6 +83,11 @@ impl<'rt> Comm<'rt> {
         global
     }
 
+    /// Waits until every rank has come here (collective).
+    pub fn barrier(&self) {
+        self.mpi.barrier();
+    }
+
     /// Element-wise sum of `values` over all ranks, in place (collective).
     pub fn sum_in_place(&self, values: &mut [f64]) {
         let local = values.to_vec();

@@ -75,6 +75,12 @@ fn assemble(args: &AssembleArgs) -> Result<(), StudyError> {
             why,
         });
     }
+    if let Some(why) = crate::analysis::cea::threshold_problem(args.unstable_threshold) {
+        return Err(StudyError::BadFlag {
+            flag: "--unstable-threshold",
+            why,
+        });
+    }
     let se = superelement_file::read(&args.file, None)?;
     let assembly =
         Assembly::new(&se, &args.contact).map_err(|source| StudyError::AssemblyFromFile {

@@ -2,7 +2,7 @@
 //! presets, for a person to rerun (`mpirun -n 1` and `-n 2`) and compare. Medians of
 //! repeated runs, because the machine is shared and noisy.
 
-use super::report::{json_for, write_file};
+use super::report::{check_output_file, json_for, on_root, write_file};
 use super::StudyError;
 use crate::analysis::modes::{real_modes, ModeBand, ModesOptions};
 use crate::fem::{assemble, DofMap, StructureOptions};
@@ -68,6 +68,11 @@ pub fn run(
 ) -> Result<(), StudyError> {
     let comm = rt.world();
     let root = comm.rank() == 0;
+    // Every preset and the output path before the first timing, said once.
+    if let Some(unknown) = presets.iter().find(|p| brake::preset(p).is_none()) {
+        return Err(StudyError::Model(ModelError::UnknownPreset(unknown.clone())).collective());
+    }
+    check_output_file(comm, output)?;
     let mut results = Vec::new();
     for preset in presets {
         let params = brake::preset(preset)
@@ -151,7 +156,7 @@ pub fn run(
             repeats: repeats.max(1),
         });
     }
-    if root {
+    on_root(comm, || {
         println!(
             "preset      ranks    nodes  equations  modes   mesh s  pattern s  assembly s  elem/s/rank  modes s  total s  peak MiB"
         );
@@ -178,6 +183,6 @@ pub fn run(
             repeats.max(1),
             output.display()
         );
-    }
-    Ok(())
+        Ok(())
+    })
 }

@@ -98,7 +98,7 @@ pub fn run(rt: &Runtime, args: &CeaArgs) -> Result<(), StudyError> {
             cea::threshold_problem(args.unstable_threshold),
         ),
         (
-            "--modes-per-target",
+            "--window",
             (args.modes_per_target == 0).then(|| "must be at least 1".to_string()),
         ),
     ];

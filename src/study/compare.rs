@@ -868,7 +868,7 @@ impl Comparison {
     /// compare.json and compare.md into `dir`, each whole or not at all.
     pub fn write(&self, dir: &Path) -> Result<(), CompareError> {
         let err = |file: PathBuf| move |source| CompareError::Write { file, source };
-        std::fs::create_dir_all(dir).map_err(err(dir.to_path_buf()))?;
+        super::report::create_dir_all(dir).map_err(err(dir.to_path_buf()))?;
         let json = serde_json::to_vec_pretty(self).expect("plain data serialises");
         let file = dir.join("compare.json");
         write_atomically(&file, &json).map_err(|e| CompareError::Write {
@@ -930,12 +930,12 @@ pub fn run(
 ) -> Result<(), super::StudyError> {
     let comm = rt.world();
     let comparison = crate::study::report::collective(comm, compare(reference, others))?;
-    if comm.rank() == 0 {
+    crate::study::report::on_root(comm, || {
         comparison.write(output)?;
         print!("{}", comparison.markdown());
         println!("\nresults in {}", output.display());
-    }
-    Ok(())
+        Ok(())
+    })
 }
 
 #[cfg(test)]

@@ -347,6 +347,12 @@ pub enum ConfigError {
     },
     #[error("{file}: {message}")]
     Syntax { file: PathBuf, message: String },
+    /// A study file without a single key.
+    #[error(
+        "{file}: the study is empty (no mesh, supports, loads or contacts): write one to start \
+         from with `squeal sweep --preset NAME --write-study FILE`"
+    )]
+    Empty { file: PathBuf },
     #[error("{file}: {key}: {message}")]
     Invalid {
         file: PathBuf,
@@ -564,6 +570,13 @@ impl Study {
             file: path.to_path_buf(),
             message: e.to_string(),
         })?;
+        // Every key has a default, so an empty file used to be the default study (the
+        // built-in brake without its supports, reported as a free disc after assembly).
+        if toml::from_str::<toml::Table>(&text).is_ok_and(|t| t.is_empty()) {
+            return Err(ConfigError::Empty {
+                file: path.to_path_buf(),
+            });
+        }
         let base = path.parent().unwrap_or(Path::new("."));
         if let Some(f) = &study.mesh.file {
             if f.is_relative() {
@@ -770,6 +783,30 @@ impl Study {
                     format!("must be positive, got {}", s.stiffness),
                 ));
             }
+            // A NaN direction used to pass into K and end the static in DIVERGED_FNORM_NAN.
+            if let SpringDirection::Vector(v) = &s.direction {
+                let length = v.iter().map(|c| c * c).sum::<f64>().sqrt();
+                if !(length > 0.0 && length.is_finite()) {
+                    return Err(bad(
+                        format!("springs[{i}].direction"),
+                        format!("must be a finite non-zero vector, got {v:?}"),
+                    ));
+                }
+            }
+        }
+        for (i, p) in self.pressures.iter().enumerate() {
+            // NaN used to end the static in DIVERGED_FNORM_NAN, 0 in a singular tangent with
+            // nothing pressing the pads on: both after the model was built and assembled.
+            if !(p.value.is_finite() && p.value != 0.0) {
+                return Err(bad(
+                    format!("pressures[{i}].value"),
+                    format!(
+                        "must be a finite, non-zero pressure (Pa), got {} (remove the entry to \
+                         load nothing there)",
+                        p.value
+                    ),
+                ));
+            }
         }
         for (i, l) in self.links.iter().enumerate() {
             for (key, value) in [("axial", l.axial), ("transverse", l.transverse)] {
@@ -796,10 +833,12 @@ impl Study {
             }
         }
         for (i, m) in self.materials.iter().enumerate() {
-            if !(m.young > 0.0 && m.poisson > -1.0 && m.poisson < 0.5 && m.density > 0.0) {
+            let finite = m.young.is_finite() && m.density.is_finite();
+            if !(finite && m.young > 0.0 && m.poisson > -1.0 && m.poisson < 0.5 && m.density > 0.0)
+            {
                 return Err(bad(
                     format!("materials[{i}]"),
-                    "need young > 0, -1 < poisson < 0.5, density > 0".into(),
+                    "need finite young > 0, -1 < poisson < 0.5, finite density > 0".into(),
                 ));
             }
         }
@@ -817,6 +856,22 @@ mod tests {
         let p = dir.join(name);
         std::fs::write(&p, text).unwrap();
         p
+    }
+
+    #[test]
+    fn empty_files_nan_directions_and_null_pressures_are_refused_by_key() {
+        let e = Study::read(&write("empty.toml", "# nothing\n")).unwrap_err();
+        assert!(e.to_string().contains("the study is empty"), "{e}");
+        let mut study = Study::builtin("tiny");
+        study.springs[0].direction = SpringDirection::Vector([f64::NAN, 0.0, 1.0]);
+        let e = study.check(Path::new("s.toml")).unwrap_err().to_string();
+        assert!(e.contains("springs[0].direction"), "{e}");
+        for value in [f64::NAN, 0.0] {
+            let mut study = Study::builtin("tiny");
+            study.pressures[1].value = value;
+            let e = study.check(Path::new("s.toml")).unwrap_err().to_string();
+            assert!(e.contains("pressures[1].value"), "{e}");
+        }
     }
 
     #[test]

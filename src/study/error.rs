@@ -220,6 +220,16 @@ pub enum StudyError {
     /// A command-line number out of range, refused before any work.
     #[error("{flag}: {why}")]
     BadFlag { flag: &'static str, why: String },
+    /// More modes asked than the model has equations (`--nev`, or a deck's *FREQUENCY).
+    #[error(
+        "{flag}: {count} modes asked of a model with {equations} equations (free degrees of \
+         freedom): ask for at most {equations}, or give --fmax"
+    )]
+    TooManyModes {
+        flag: String,
+        count: usize,
+        equations: usize,
+    },
     /// Work done on rank 0 alone failed there (rank 0 reports why).
     #[error("the {0} failed on rank 0")]
     FailedOnRoot(&'static str),

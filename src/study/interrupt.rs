@@ -10,7 +10,14 @@
 
 use signal_hook::consts::{SIGINT, SIGTERM};
 use signal_hook::iterator::Signals;
+use std::sync::atomic::{AtomicI32, Ordering};
 use std::sync::Mutex;
+
+/// Once the run has failed and said why: the exit code to leave with on a signal, without a
+/// word. `mpirun` sends SIGTERM to the ranks still running (finalising MPI) when one exits
+/// with failure, and rank 0 then followed its one error with "interrupted by SIGTERM", a
+/// second message about an interruption that was not the user's.
+static FAILED_WITH: AtomicI32 = AtomicI32::new(0);
 
 /// Where the run is and what an interruption leaves, as a sentence ending the message.
 static PROGRESS: Mutex<String> = Mutex::new(String::new());
@@ -27,6 +34,10 @@ pub fn install(rank: usize) {
     };
     std::thread::spawn(move || {
         if let Some(signal) = signals.forever().next() {
+            let failed = FAILED_WITH.load(Ordering::SeqCst);
+            if failed != 0 {
+                std::process::exit(failed);
+            }
             if rank == 0 {
                 let name = if signal == SIGINT {
                     "SIGINT"
@@ -51,4 +62,10 @@ pub fn progress(text: impl Into<String>) {
 /// Forgets the progress (the run ended).
 pub fn clear() {
     progress(String::new());
+}
+
+/// The run failed with `code` (non-zero) and its error is printed: a signal from here on
+/// (`mpirun` stopping the ranks after the first one left) ends the process quietly with it.
+pub fn failed(code: i32) {
+    FAILED_WITH.store(code, Ordering::SeqCst);
 }

@@ -75,15 +75,29 @@ pub struct ModelSummary {
 /// Runs `squeal modes` (collective); rank 0 prints and writes.
 pub fn run(rt: &Runtime, args: &ModesArgs) -> Result<(), StudyError> {
     let comm = rt.world();
-    if let Some(why) = args
-        .max_frequency_hz
-        .and_then(crate::analysis::cea::band_problem)
-    {
-        return Err(StudyError::BadFlag {
-            flag: "--fmax",
-            why,
-        }
-        .collective());
+    // Every rank has the same flags: the same refusal everywhere, before any reading.
+    let flags = [
+        (
+            "--fmax",
+            args.max_frequency_hz
+                .and_then(crate::analysis::cea::band_problem),
+        ),
+        (
+            "--nev",
+            (args.count == Some(0)).then(|| "must be at least 1".to_string()),
+        ),
+        (
+            "--tolerance",
+            (!(args.tolerance > 0.0 && args.tolerance < 1.0)).then(|| {
+                format!(
+                    "must be a relative residual in (0, 1), got {}",
+                    args.tolerance
+                )
+            }),
+        ),
+    ];
+    if let Some((flag, Some(why))) = flags.into_iter().find(|(_, why)| why.is_some()) {
+        return Err(StudyError::BadFlag { flag, why }.collective());
     }
     let summary = staged(comm, &args.output, |dir| solve_and_write(rt, args, dir))?;
     if let Some(line) = summary {
@@ -129,6 +143,22 @@ fn solve_and_write(
     };
     let mesh = &model.mesh;
     let dofs = crate::model::assemble::dof_map(comm, &model)?;
+    // SLEPc's own words for more modes than equations are "Illegal value of nev".
+    if let ModeBand::Lowest { count } = band {
+        if count > dofs.equations() {
+            let flag = if args.count.is_some() {
+                "--nev".to_string()
+            } else {
+                format!("{}: *FREQUENCY", model.source)
+            };
+            return Err(StudyError::TooManyModes {
+                flag,
+                count,
+                equations: dofs.equations(),
+            }
+            .collective());
+        }
+    }
     if root {
         tracing::info!(
             "{}: {} nodes, {} elements, {} equations on {} rank(s)",

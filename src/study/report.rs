@@ -8,7 +8,7 @@ use std::path::Path;
 /// ([`write_file`], [`StudyError::Write`]).
 pub(super) fn write_atomically(path: &Path, contents: &[u8]) -> std::io::Result<()> {
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir)?;
+        create_dir_all(dir)?;
     }
     crate::atomic_file::write(path, contents)
 }
@@ -28,7 +28,16 @@ pub fn json_for(path: &Path, value: &impl serde::Serialize) -> Result<Vec<u8>, S
 
 /// Creates a folder and its parents, with the folder named in the error.
 pub fn create_dir(dir: &Path) -> Result<(), StudyError> {
-    std::fs::create_dir_all(dir).map_err(|source| StudyError::create_dir(dir, source))
+    create_dir_all(dir).map_err(|source| StudyError::create_dir(dir, source))
+}
+
+/// [`std::fs::create_dir_all`], saying which file is in the way instead of the OS's "File
+/// exists (os error 17)" or "Not a directory (os error 20)".
+pub(super) fn create_dir_all(dir: &Path) -> std::io::Result<()> {
+    match super::staging::not_a_folder(dir) {
+        Some(why) => Err(std::io::Error::new(std::io::ErrorKind::InvalidInput, why)),
+        None => std::fs::create_dir_all(dir),
+    }
 }
 
 /// Makes a per-rank result collective: if any rank failed, every rank returns an error
@@ -54,6 +63,40 @@ where
         }
         (Err(e), _) => Err(e.collective()),
     }
+}
+
+/// Runs `write` on rank 0 alone and shares how it went: a failed write (a file in the way,
+/// a full disc) is then every rank's error, said once by rank 0, and no rank has to abort
+/// the others (`compare`, `bench` and `--write-study` ended in an MPI_ABORT banner).
+/// Collective.
+pub fn on_root(
+    comm: crate::petsc::Comm,
+    write: impl FnOnce() -> Result<(), StudyError>,
+) -> Result<(), StudyError> {
+    let local = if comm.rank() == 0 { write() } else { Ok(()) };
+    collective(comm, local)
+}
+
+/// Why no file can be written at `path`: it is a folder, or the nearest of its ancestors
+/// that exists is a file. Checked before the work whose result it is to hold.
+pub fn output_file_problem(path: &Path) -> Option<String> {
+    if path.is_dir() {
+        Some(format!("{} is a folder", path.display()))
+    } else {
+        super::staging::file_among_ancestors(path)
+    }
+}
+
+/// Refuses, on every rank alike, an output file that cannot be written (see
+/// [`output_file_problem`]), before the work whose result it is to hold. Collective.
+pub fn check_output_file(comm: crate::petsc::Comm, path: &Path) -> Result<(), StudyError> {
+    on_root(comm, || match output_file_problem(path) {
+        Some(why) => Err(StudyError::OutputInTheWay {
+            path: path.to_path_buf(),
+            why,
+        }),
+        None => Ok(()),
+    })
 }
 
 /// An error and its causes, "what: why: why that", each cause once.

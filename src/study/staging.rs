@@ -143,6 +143,9 @@ fn prepare(output: &Path, partial: &Path) -> Result<(), StudyError> {
         path: output.to_path_buf(),
         why: why.to_string(),
     };
+    if let Some(why) = file_among_ancestors(output) {
+        return Err(not_results(&why));
+    }
     match std::fs::metadata(output) {
         Ok(m) if !m.is_dir() => return Err(not_results("it is a file, not a folder")),
         Ok(_) => {
@@ -168,6 +171,22 @@ fn prepare(output: &Path, partial: &Path) -> Result<(), StudyError> {
         std::fs::remove_dir_all(partial).map_err(|source| StudyError::write(partial, source))?;
     }
     std::fs::create_dir_all(partial).map_err(|source| StudyError::create_dir(partial, source))
+}
+
+/// Why no folder can be made at `path`'s parent: the nearest of its ancestors that exists is
+/// a file (`-o afile/x.msh` used to say "creating afile: File exists (os error 17)").
+pub(super) fn file_among_ancestors(path: &Path) -> Option<String> {
+    path.parent().and_then(not_a_folder)
+}
+
+/// Why no folder can be made at `dir`: it, or the nearest of its ancestors that exists, is
+/// a file.
+pub(super) fn not_a_folder(dir: &Path) -> Option<String> {
+    let existing = dir
+        .ancestors()
+        .filter(|a| !a.as_os_str().is_empty())
+        .find(|a| std::fs::symlink_metadata(a).is_ok())?;
+    (!existing.is_dir()).then(|| format!("{} is a file, not a folder", existing.display()))
 }
 
 #[cfg(test)]

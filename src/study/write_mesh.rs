@@ -2,12 +2,13 @@
 //! `.vtu` beside it, so a person can look at the model.
 
 use super::modes::load_model;
-use super::report::create_dir;
+use super::report::{create_dir, on_root, output_file_problem};
 use super::StudyError;
 use crate::fem::element;
 use crate::io::gmsh;
 use crate::io::vtu::{Field, VtuWriter};
 use crate::mesh::Mesh;
+use crate::model::Model;
 use crate::petsc::Runtime;
 use std::path::{Path, PathBuf};
 
@@ -19,29 +20,47 @@ pub fn run(
     preset: &str,
     output: &Path,
 ) -> Result<(), StudyError> {
-    let model = load_model(rt, mesh, preset, &[], &[])?;
-    if rt.world().rank() != 0 {
-        return Ok(());
-    }
+    let comm = rt.world();
     let msh = if output.extension().is_some() {
         output.to_path_buf()
     } else {
         output.with_extension("msh")
     };
     let vtu: PathBuf = msh.with_extension("vtu");
+    // Rank 0 writes: it checks the paths before anything is read or built, and tells all.
+    on_root(comm, || output_problem(&msh, &vtu))?;
+    let model = load_model(rt, mesh, preset, &[], &[])?;
+    on_root(comm, || write(&model, &msh, &vtu))
+}
+
+/// The mesh files as rank 0 writes them, and the lines that say so.
+fn write(model: &Model, msh: &Path, vtu: &Path) -> Result<(), StudyError> {
     if let Some(dir) = msh.parent().filter(|d| !d.as_os_str().is_empty()) {
         create_dir(dir)?;
     }
-    gmsh::write(&msh, &model.mesh)?;
+    gmsh::write(msh, &model.mesh)?;
     let parts = Field::part_ids(&model.mesh, 0);
     let surfaces = surface_field(&model.mesh);
     VtuWriter::new(&model.mesh)
         .cell_field(&parts)
         .point_field(&surfaces)
-        .write(&vtu)?;
+        .write(vtu)?;
     println!("{}", describe(&model.mesh, &model.source));
     println!("wrote {} and {}", msh.display(), vtu.display());
     Ok(())
+}
+
+/// Refuses output paths the files cannot be written to: a folder where a file goes (once
+/// found only after the .msh was written, which was left behind), a file where a folder
+/// goes.
+fn output_problem(msh: &Path, vtu: &Path) -> Result<(), StudyError> {
+    match [msh, vtu].into_iter().find_map(output_file_problem) {
+        Some(why) => Err(StudyError::OutputInTheWay {
+            path: msh.to_path_buf(),
+            why,
+        }),
+        None => Ok(()),
+    }
 }
 
 /// A point field numbering the named surfaces (0 = none), to see them in ParaView.

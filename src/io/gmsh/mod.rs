@@ -59,7 +59,27 @@ pub fn read(path: &Path) -> Result<Mesh, MeshError> {
 
 /// Parse the contents of a Gmsh mesh file; `file` is only used in error messages.
 pub fn parse(file: &Path, bytes: &[u8]) -> Result<Mesh, MeshError> {
-    let raw = Parser::new(file, bytes).run()?;
+    let raw = match Parser::new(file, bytes).run() {
+        Ok(raw) => raw,
+        // A check word written in the other byte order than the numbers after it made the
+        // numbers garbage, reported as "it is truncated" far from the cause: when they read
+        // whole against the check word, the check word is what is wrong.
+        Err(e @ MeshError::Binary { .. }) => {
+            return Err(
+                match Parser::new(file, bytes).against_byte_order_check().run() {
+                    Ok(_) => MeshError::invalid(
+                        file,
+                        "the byte-order check (the integer 1 after the $MeshFormat line) is \
+                         in the other byte order than the numbers after it, which read whole \
+                         in theirs: the check word is wrong (the file was altered after it \
+                         was written)",
+                    ),
+                    Err(_) => e,
+                },
+            )
+        }
+        Err(e) => return Err(e),
+    };
     build(file, raw)
 }
 
@@ -69,6 +89,23 @@ mod tests {
     use super::*;
     use crate::mesh::{TET10_EDGES, TET10_FACES};
     use std::collections::BTreeSet;
+
+    /// A check word in the other byte order than the numbers after it is named as such,
+    /// not reported as a truncated file far from the cause.
+    #[test]
+    fn a_check_word_in_the_wrong_byte_order_is_named() {
+        for big_endian in [false, true] {
+            let mut bytes = two_tets_binary(big_endian);
+            let at = b"$MeshFormat\n4.1 1 8\n".len();
+            bytes[at..at + 4].reverse();
+            let message = parse(&p("b.msh"), &bytes).unwrap_err().to_string();
+            assert!(
+                message.contains("byte-order check") && message.contains("check word is wrong"),
+                "{message}"
+            );
+            assert!(!message.contains("truncated"), "{message}");
+        }
+    }
 
     #[test]
     fn reads_msh41_ascii() {

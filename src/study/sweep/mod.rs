@@ -243,13 +243,13 @@ pub fn run_command(
     let comm = rt.world();
     let (study, name) = study_from_args(comm, file, args)?;
     if let Some(path) = write_study {
-        if comm.rank() == 0 {
+        return super::report::on_root(comm, || {
             let text = toml::to_string_pretty(&study)
                 .map_err(|source| StudyError::StudyToml { source })?;
             write_file(path, text.as_bytes())?;
             println!("wrote {}", path.display());
-        }
-        return Ok(());
+            Ok(())
+        });
     }
     run(rt, &study, &name).map(|_| ())
 }
@@ -266,6 +266,7 @@ pub fn superelement_command(
     let comm = rt.world();
     args.superelements.strategy = Some(args.superelements.strategy.unwrap_or(Strategy::Single));
     let (study, name) = study_from_args(comm, file, args)?;
+    super::report::check_output_file(comm, output)?;
     let started = Instant::now();
     let mut model = SuperElementModel::from_study(comm, &study, &name)?;
     let mu = model.settings().friction;
