@@ -930,12 +930,20 @@ pub fn run(
 ) -> Result<(), super::StudyError> {
     let comm = rt.world();
     let comparison = crate::study::report::collective(comm, compare(reference, others))?;
-    crate::study::report::on_root(comm, || {
-        comparison.write(output)?;
+    // Into `<output>.partial`, put in place when every file is written: a comparison that
+    // fails half-way (a figure that cannot be drawn, a full disk) leaves the previous one
+    // whole, not a new compare.json beside old figures.
+    crate::study::staging::staged(comm, output, |dir| {
+        if comm.rank() == 0 {
+            comparison.write(dir)?;
+        }
+        Ok(())
+    })?;
+    if comm.rank() == 0 {
         print!("{}", comparison.markdown());
         println!("\nresults in {}", output.display());
-        Ok(())
-    })
+    }
+    Ok(())
 }
 
 #[cfg(test)]
