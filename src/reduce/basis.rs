@@ -33,6 +33,11 @@ impl LocalBasis {
         self.rows.clone()
     }
 
+    /// Entry (i, j) of this rank's rows of T (i counts from the first of [`Self::rows`]).
+    pub fn value(&self, i: usize, j: usize) -> f64 {
+        self.values[(i, j)]
+    }
+
     /// Reduced coordinates: T's columns.
     pub fn size(&self) -> usize {
         self.values.ncols()

@@ -241,47 +241,8 @@ fn build<'rt>(
         .collect();
     let kept_slip = slip.subset(&kept_indices);
 
-    // 1. K_t: the kept contacts' tangent on a copy of K (Coulomb pairs: the consistent
-    // tangent of their stick or slip state at the equilibrium).
-    let mut k_t = operators.stiffness.duplicate()?;
-    if !kept.is_empty() {
-        statics::add_contact_tangent(comm, &mut k_t, dofs, &kept, &kept_slip, equilibrium, 1.0)?;
-    }
-    // The kept contacts linearised at the equilibrium are affine, not linear:
-    // F_c(u) ~ F_c(u_s) + J_c (u - u_s) = J_c u + f0 with f0 = F_c(u_s) - J_c u_s (a
-    // slipping point's force mu p s and a sticking point's anchor are not J_c u). The
-    // constant part acts as a load: the super-element carries F - f0, so that T holds the
-    // equilibrium exactly (eq. 5) whatever the kept pairs' states. Without it, a
-    // per-friction super-element of the floating-caliper brake missed its own equilibrium
-    // by 10 % of the load (alpha 0.995 in the fit) at every mu where a kept pair slipped.
-    let effective_load = {
-        let mut f = operators.load.copy()?;
-        if !kept.is_empty() {
-            let (mut u_s, mut k_u) = operators.stiffness.vectors()?;
-            let (lo, hi) = u_s.ownership_range()?;
-            let mut local = vec![0.0; hi - lo];
-            for (node, d) in equilibrium.iter().enumerate() {
-                for (c, &v) in d.iter().enumerate() {
-                    if let Some(eq) = dofs.equation(node, c) {
-                        if (lo..hi).contains(&eq) {
-                            local[eq - lo] = v;
-                        }
-                    }
-                }
-            }
-            u_s.set_local(&local)?;
-            // f0 = F_c(u_s) - (K_t - K) u_s, subtracted from F.
-            let mut f0 = u_s.duplicate()?;
-            f0.set(0.0)?;
-            statics::add_contact_forces(comm, &mut f0, dofs, &kept, &kept_slip, equilibrium)?;
-            k_t.mult(&u_s, &mut k_u)?;
-            f0.axpy(-1.0, &k_u)?;
-            operators.stiffness.mult(&u_s, &mut k_u)?;
-            f0.axpy(1.0, &k_u)?;
-            f.axpy(-1.0, &f0)?;
-        }
-        f
-    };
+    // 1. K_t and the load less the kept contacts' constant part (see [`linearised`]).
+    let (k_t, effective_load) = linearised(comm, operators, &kept, &kept_slip, equilibrium)?;
     // Only friction of a kept pair makes K_t unsymmetric (decided from the data, the same on
     // every rank, rather than by a tolerance on the entries).
     let symmetric = kept.iter().all(|p| p.settings.friction == 0.0);
@@ -514,6 +475,107 @@ fn build<'rt>(
         boundary_equations: boundary.equations,
     })
 }
+/// The model linearised at an equilibrium with the swept contact removed: K_t = K + the
+/// kept pairs' tangent (Coulomb pairs: the consistent tangent of their stick or slip state),
+/// and the load less the constant part of the kept contacts' affine linearisation.
+///
+/// The kept contacts linearised at the equilibrium are affine, not linear:
+/// F_c(u) ~ F_c(u_s) + J_c (u - u_s) = J_c u + f0 with f0 = F_c(u_s) - J_c u_s (a slipping
+/// point's force mu p s and a sticking point's anchor are not J_c u). The constant part acts
+/// as a load: the super-element carries F - f0, so that T holds the equilibrium exactly
+/// (eq. 5) whatever the kept pairs' states. Without it, a per-friction super-element of the
+/// floating-caliper brake missed its own equilibrium by 10 % of the load (alpha 0.995 in the
+/// fit) at every mu where a kept pair slipped. Collective.
+fn linearised<'rt>(
+    comm: Comm<'rt>,
+    operators: &Operators<'rt>,
+    kept: &[ContactPair],
+    kept_slip: &contact::SlipHistory,
+    equilibrium: &[[f64; 3]],
+) -> Result<(Matrix<'rt>, crate::petsc::Vector<'rt>), SuperElementError> {
+    let dofs = &operators.dofs;
+    let mut k_t = operators.stiffness.duplicate()?;
+    if !kept.is_empty() {
+        statics::add_contact_tangent(comm, &mut k_t, dofs, kept, kept_slip, equilibrium, 1.0)?;
+    }
+    let mut f = operators.load.copy()?;
+    if !kept.is_empty() {
+        let (mut u_s, mut k_u) = operators.stiffness.vectors()?;
+        let (lo, hi) = u_s.ownership_range()?;
+        let mut local = vec![0.0; hi - lo];
+        for (node, d) in equilibrium.iter().enumerate() {
+            for (c, &v) in d.iter().enumerate() {
+                if let Some(eq) = dofs.equation(node, c) {
+                    if (lo..hi).contains(&eq) {
+                        local[eq - lo] = v;
+                    }
+                }
+            }
+        }
+        u_s.set_local(&local)?;
+        // f0 = F_c(u_s) - (K_t - K) u_s, subtracted from F.
+        let mut f0 = u_s.duplicate()?;
+        f0.set(0.0)?;
+        statics::add_contact_forces(comm, &mut f0, dofs, kept, kept_slip, equilibrium)?;
+        k_t.mult(&u_s, &mut k_u)?;
+        f0.axpy(-1.0, &k_u)?;
+        operators.stiffness.mult(&u_s, &mut k_u)?;
+        f0.axpy(1.0, &k_u)?;
+        f.axpy(-1.0, &f0)?;
+    }
+    Ok((k_t, f))
+}
+
+/// Projects the model linearised at another equilibrium onto an existing super-element's
+/// basis: K_r = T^T K_t T and the load T^T (F - f0), with K_t and f0 from the kept contacts
+/// at `equilibrium` (see [`linearised`]). M_r, the basis and the boundary stay.
+///
+/// This is how the adaptive strategy reuses a super-element whose kept contacts kept their
+/// states: the basis T was made at another friction value, but the operator it reduces is
+/// this one's. Reusing the old K_r instead carries the old tangent (a slipping point's
+/// friction block follows its pressure and slip direction, which change with mu even when
+/// the state does not), a first-order error in the eigenvalues: on the floating caliper the
+/// reused points were 1.1-2.0 % off where the built ones were 0.4 %. Projected anew, only
+/// the basis is old, an error of second order (Rayleigh-Ritz). The cost is one sparse
+/// product with T and one dense product, against a build's factorisation and eigensolve.
+/// Collective.
+pub fn reproject<'rt>(
+    comm: Comm<'rt>,
+    reduced: &ReducedInterface,
+    operators: &Operators<'rt>,
+    equilibrium: Configuration<'_>,
+    swept: &[usize],
+    basis: &super::LocalBasis,
+    superelement: &mut SuperElement,
+) -> Result<(), SuperElementError> {
+    let model = &reduced.model;
+    let Configuration {
+        displacement: equilibrium,
+        slip,
+    } = equilibrium;
+    if equilibrium.len() != model.node_count() {
+        return Err(SuperElementError::EquilibriumSize {
+            given: equilibrium.len(),
+            expected: model.node_count(),
+        });
+    }
+    let kept_indices: Vec<usize> = (0..model.pairs.len())
+        .filter(|i| !swept.contains(i))
+        .collect();
+    let kept: Vec<ContactPair> = kept_indices
+        .iter()
+        .map(|&i| model.pairs[i].clone())
+        .collect();
+    let kept_slip = slip.subset(&kept_indices);
+    let (k_t, effective_load) = linearised(comm, operators, &kept, &kept_slip, equilibrium)?;
+    let rows = basis.rows();
+    let mut t = DenseMatrix::zeros(comm, rows.len(), basis.size())?;
+    t.write_local(|i, j| basis.value(i, j))?;
+    superelement.stiffness = k_t.project(&t)?;
+    superelement.load = basis.project(comm, &effective_load.read()?);
+    Ok(())
+}
+
 /// Relative size (of the largest) below which a direction of the interior basis is taken
 /// as already in the span of the others.
 const SPAN_TOLERANCE: f64 = 1e-10;

@@ -41,7 +41,7 @@ pub use coupling::{
     Weighting,
 };
 pub use craig_bampton::{
-    build_superelement, build_with_basis, BuildSettings, CraigBampton, SuperElementError,
+    build_superelement, build_with_basis, reproject, BuildSettings, CraigBampton, SuperElementError,
 };
 pub use error::ReduceError;
 pub use grid::{isometric_grid, ContactGrid, GridSize, MeanPlane, ReducedNode};

@@ -251,6 +251,32 @@ impl<'rt> SuperElementModel<'rt> {
         Ok(())
     }
 
+    /// Projects the model linearised at `equilibrium` (friction `mu`) onto the current
+    /// super-element's basis ([`reduce::reproject`]). Collective.
+    fn reproject(
+        &mut self,
+        comm: Comm<'rt>,
+        equilibrium: &StaticSolution,
+        mu: f64,
+    ) -> Result<(), StudyError> {
+        let reduced = self
+            .base
+            .reduced
+            .as_ref()
+            .ok_or(StudyError::NoReducedInterface)?;
+        let current = self.current.as_mut().ok_or(StudyError::NoSuperElement)?;
+        reduce::reproject(
+            comm,
+            reduced,
+            self.base.operators(),
+            equilibrium.configuration(),
+            &self.swept,
+            &current.basis,
+            &mut current.se,
+        )
+        .map_err(|source| StudyError::SuperElement { mu, source })
+    }
+
     /// The kept (non-swept) pairs' states at an equilibrium.
     fn kept_states(&self, equilibrium: &StaticSolution) -> Vec<(String, Vec<Status>)> {
         self.base
@@ -323,10 +349,11 @@ impl<'rt> SuperElementModel<'rt> {
                 choice.reason = why;
             }
             Decision::Reuse => {
+                self.reproject(comm, &equilibrium, mu)?;
                 self.move_to(comm, &equilibrium)?;
-                choice.reason =
-                    "adaptive: no kept contact changed state; moved to this mu's equilibrium"
-                        .into();
+                choice.reason = "adaptive: no kept contact changed state; its basis reused, \
+                     this mu's tangent projected on it, moved to this mu's equilibrium"
+                    .into();
             }
         }
         choice.build_seconds = t.elapsed().as_secs_f64();
