@@ -57,13 +57,13 @@ pub fn run_command(
     // The plan is part of the study a user edits: written out whole, defaults filled in.
     study.comparison = Some(study.comparison.unwrap_or_default());
     if let Some(path) = write_study {
-        if comm.rank() == 0 {
+        return crate::study::report::on_root(comm, || {
             let text = toml::to_string_pretty(&study)
                 .map_err(|source| StudyError::StudyToml { source })?;
             crate::study::report::write_file(path, text.as_bytes())?;
             println!("wrote {}", path.display());
-        }
-        return Ok(());
+            Ok(())
+        });
     }
     let mesh_hash = match &study.mesh.file {
         Some(path) => collective(
@@ -79,14 +79,9 @@ pub fn run_command(
     };
     let stages = stage::plan(&study, &mesh_hash);
     let out = study.output.clone();
-    if comm.rank() == 0 {
-        collective(
-            comm,
-            std::fs::create_dir_all(&out).map_err(|e| StudyError::create_dir(&out, e)),
-        )?;
-    } else {
-        collective(comm, Ok::<(), StudyError>(()))?;
-    }
+    crate::study::report::on_root(comm, || {
+        std::fs::create_dir_all(&out).map_err(|e| StudyError::create_dir(&out, e))
+    })?;
     let started = Instant::now();
     let mut outcomes = Vec::new();
     for (k, stage) in stages.iter().enumerate() {
@@ -94,7 +89,7 @@ pub fn run_command(
         let outcome = run_stage(rt, stage, &out, &name, &head)?;
         outcomes.push(outcome);
     }
-    if comm.rank() == 0 {
+    crate::study::report::on_root(comm, || {
         let r = report::Report::gather(&study, &name, &stages, &outcomes)?;
         r.write(&out)?;
         println!(
@@ -109,8 +104,8 @@ pub fn run_command(
             out.join("report.md").display(),
             out.join("report.html").display()
         );
-    }
-    Ok(())
+        Ok(())
+    })
 }
 
 /// One stage: reused when its record holds its key and its result is there, else run (its
@@ -150,12 +145,7 @@ fn run_stage(
     if comm.rank() == 0 {
         println!("{head}: running (key {})", stage.key);
     }
-    let removed = if comm.rank() == 0 {
-        StageRecord::remove(out, &stage.name)
-    } else {
-        Ok(())
-    };
-    collective(comm, removed)?;
+    crate::study::report::on_root(comm, || StageRecord::remove(out, &stage.name))?;
     let t = Instant::now();
     match &stage.work {
         Work::Sweep(study) => {
@@ -167,12 +157,7 @@ fn run_stage(
         }
     }
     let seconds = t.elapsed().as_secs_f64();
-    let written = if comm.rank() == 0 {
-        StageRecord::new(stage, seconds).write(out)
-    } else {
-        Ok(())
-    };
-    collective(comm, written)?;
+    crate::study::report::on_root(comm, || StageRecord::new(stage, seconds).write(out))?;
     if comm.rank() == 0 {
         println!("{head}: done in {seconds:.1} s");
     }
