@@ -1,5 +1,5 @@
 //! Progress of long work on rank 0: a bar (indicatif) with the stage's name, where it is and
-//! an estimate of the time left, drawn only when stdout is a terminal; the per-step log lines
+//! an estimate of the time left, drawn only when a person watches (see [`interactive`]); the per-step log lines
 //! stay in every case (through [`LogWriter`], which prints them above the bar while one is
 //! drawn, so the two never tear each other). Other ranks draw nothing.
 
@@ -18,9 +18,7 @@ pub struct Progress {
 
 impl Progress {
     pub fn new(rank: usize, stage: &str, total: usize) -> Progress {
-        // On stdout: under mpirun a rank's stdout is a terminal (OpenMPI gives it a pty) when
-        // mpirun's is, while its stderr is always a pipe.
-        let bar = if rank == 0 && tracing::enabled!(tracing::Level::INFO) {
+        let bar = if rank == 0 && tracing::enabled!(tracing::Level::INFO) && interactive() {
             ProgressBar::with_draw_target(Some(total as u64), ProgressDrawTarget::stdout())
         } else {
             ProgressBar::hidden()
@@ -48,6 +46,21 @@ impl Progress {
     pub fn step(&self) {
         self.bar.inc(1);
     }
+}
+
+/// Whether a person watches stdout. Under mpirun a rank's stdout is a pseudo-terminal of
+/// OpenMPI's whatever mpirun's own is (a log file too), and its stderr always a pipe, so the
+/// launcher's stdout is asked: mpirun starts the ranks of its own node itself.
+fn interactive() -> bool {
+    use std::io::IsTerminal;
+    if !std::io::stdout().is_terminal() {
+        return false;
+    }
+    if std::env::var_os("OMPI_COMM_WORLD_SIZE").is_none() {
+        return true;
+    }
+    let launcher = std::os::unix::process::parent_id();
+    std::fs::File::open(format!("/proc/{launcher}/fd/1")).is_ok_and(|f| f.is_terminal())
 }
 
 impl Drop for Progress {
