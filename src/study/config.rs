@@ -470,7 +470,13 @@ impl Study {
             file: path.to_path_buf(),
             source,
         })?;
-        let mut study: Study = toml::from_str(&text).map_err(|e| ConfigError::Syntax {
+        Study::parse(path, &text)
+    }
+
+    /// Parses and checks the text of a study file; `path` names it in messages and is the
+    /// folder relative paths are made relative to (nothing is read from it).
+    pub fn parse(path: &Path, text: &str) -> Result<Study, ConfigError> {
+        let mut study: Study = toml::from_str(text).map_err(|e| ConfigError::Syntax {
             file: path.to_path_buf(),
             message: e.to_string(),
         })?;
