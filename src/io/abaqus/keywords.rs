@@ -358,10 +358,7 @@ impl Reader {
         if let Some(name) = &nset {
             self.node_sets
                 .entry(name.canon.clone())
-                .or_insert_with(|| SetDraft {
-                    written: name.written.clone(),
-                    members: Vec::new(),
-                });
+                .or_insert_with(|| SetDraft::new(&name.written));
         }
         Ok(Block::Node { nset })
     }
@@ -384,10 +381,7 @@ impl Reader {
         if let Some(name) = &elset {
             self.element_sets
                 .entry(name.canon.clone())
-                .or_insert_with(|| SetDraft {
-                    written: name.written.clone(),
-                    members: Vec::new(),
-                });
+                .or_insert_with(|| SetDraft::new(&name.written));
         }
         Ok(Block::Element { elset })
     }
@@ -401,7 +395,7 @@ impl Reader {
         let generate = kw.flag("GENERATE");
         kw.flag("UNSORTED");
         kw.flag("INTERNAL");
-        let mut members = Vec::new();
+        let mut members = SetDraft::new(&name.written);
         if let Some(elset) = self.param(kw, "ELSET")? {
             // *NSET, ELSET=: the nodes of those elements, as they are now.
             let elset = Name::new(&elset);
@@ -414,24 +408,28 @@ impl Reader {
                     ),
                 ));
             };
-            for m in &set.members {
-                if let Some(&e) = self.element_index.get(&m.label) {
-                    members.extend(self.elements[e].iter().map(|&label| Member {
+            // The elements defined by now: listed, or in a GENERATE range.
+            let listed = set
+                .members()
+                .iter()
+                .filter_map(|m| self.element_index.get(&m.label).copied());
+            let generated = set
+                .ranges()
+                .iter()
+                .flat_map(|r| r.existing(&self.element_index));
+            for e in listed.chain(generated) {
+                for &label in &self.elements[e] {
+                    members.add(Member {
                         label,
                         loc: self.element_locs[e],
-                        generated: false,
-                    }));
+                    });
                 }
             }
         }
         self.node_sets
             .entry(name.canon.clone())
-            .or_insert_with(|| SetDraft {
-                written: name.written.clone(),
-                members: Vec::new(),
-            })
-            .members
-            .extend(members);
+            .or_insert_with(|| SetDraft::new(&name.written))
+            .add_all(&members);
         Ok(Block::NodeSet { name, generate })
     }
 
@@ -446,10 +444,7 @@ impl Reader {
         kw.flag("INTERNAL");
         self.element_sets
             .entry(name.canon.clone())
-            .or_insert_with(|| SetDraft {
-                written: name.written.clone(),
-                members: Vec::new(),
-            });
+            .or_insert_with(|| SetDraft::new(&name.written));
         Ok(Block::ElementSet { name, generate })
     }
 
@@ -499,13 +494,8 @@ impl Reader {
                     ));
                 }
                 self.node_surfaces.insert(name.canon.clone(), kw.loc);
-                self.node_sets.insert(
-                    name.canon.clone(),
-                    SetDraft {
-                        written: name.written.clone(),
-                        members: Vec::new(),
-                    },
-                );
+                self.node_sets
+                    .insert(name.canon.clone(), SetDraft::new(&name.written));
                 Ok(Block::NodeSurface { name })
             }
             _ => Err(self.err(

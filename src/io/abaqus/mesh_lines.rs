@@ -59,11 +59,7 @@ impl Reader {
         self.node_labels.push(label);
         self.node_locs.push(loc);
         if let Some(set) = nset.and_then(|n| self.node_sets.get_mut(&n.canon)) {
-            set.members.push(Member {
-                label,
-                loc,
-                generated: false,
-            });
+            set.add(Member { label, loc });
         }
         Ok(())
     }
@@ -145,11 +141,7 @@ impl Reader {
         self.element_labels.push(label);
         self.element_locs.push(loc);
         if let Some(set) = elset.and_then(|n| self.element_sets.get_mut(&n.canon)) {
-            set.members.push(Member {
-                label,
-                loc,
-                generated: false,
-            });
+            set.add(Member { label, loc });
         }
         Ok(())
     }
@@ -168,7 +160,9 @@ impl Reader {
             ("*ELSET", "element", "element label")
         };
         let f = data_fields(text);
-        let mut members = Vec::new();
+        // What the line adds, gathered first (each label once) because it may name the
+        // set itself.
+        let mut members = SetDraft::new(&name.written);
         if generate {
             if f.len() < 2 || f.len() > 3 {
                 return Err(self.err(
@@ -199,15 +193,12 @@ impl Reader {
                     format!("{keyword}, GENERATE: the range {first}..{last} is implausibly long"),
                 ));
             }
-            let mut label = first;
-            while label <= last {
-                members.push(Member {
-                    label,
-                    loc,
-                    generated: true,
-                });
-                label += step;
-            }
+            members.add_range(GeneratedRange {
+                first,
+                last,
+                step,
+                loc,
+            });
         } else {
             let sets = if of_nodes {
                 &self.node_sets
@@ -216,15 +207,14 @@ impl Reader {
             };
             for field in f.iter().filter(|s| !s.is_empty()) {
                 if looks_numeric(field) {
-                    members.push(Member {
+                    members.add(Member {
                         label: self.label(field, loc, label_of)?,
                         loc,
-                        generated: false,
                     });
                 } else {
                     let other = Name::new(field);
                     match sets.get(&other.canon) {
-                        Some(set) => members.extend_from_slice(&set.members),
+                        Some(set) => members.add_all(set),
                         None => {
                             return Err(self.err(
                                 loc,
@@ -244,7 +234,7 @@ impl Reader {
             &mut self.element_sets
         };
         if let Some(set) = sets.get_mut(&name.canon) {
-            set.members.extend(members);
+            set.add_all(&members);
         }
         Ok(())
     }
@@ -305,15 +295,16 @@ impl Reader {
             ));
         }
         let members = if looks_numeric(f[0]) {
-            vec![Member {
+            let mut one = SetDraft::new(&name.written);
+            one.add(Member {
                 label: self.label(f[0], loc, "node label")?,
                 loc,
-                generated: false,
-            }]
+            });
+            one
         } else {
             let other = Name::new(f[0]);
             match self.node_sets.get(&other.canon) {
-                Some(set) => set.members.clone(),
+                Some(set) => set.clone(),
                 None => {
                     return Err(self.err(
                         loc,
@@ -326,7 +317,7 @@ impl Reader {
             }
         };
         if let Some(set) = self.node_sets.get_mut(&name.canon) {
-            set.members.extend(members);
+            set.add_all(&members);
         }
         Ok(())
     }
@@ -354,6 +345,45 @@ mod tests {
             .find(|w| w.contains("GAPPY"))
             .expect("warning for GAPPY");
         assert!(w.contains("5 label(s)") && w.contains("deck.inp:"), "{w}");
+    }
+
+    #[test]
+    fn a_set_named_in_its_own_data_lines_keeps_each_label_once() {
+        // Each line naming the set being defined once doubled it: 40 such lines asked for
+        // 2^40 members (found writing the fuzz targets; the memory ran out).
+        let text = format!(
+            "{}*NSET, NSET=A\n11, 12\n*NSET, NSET=A\n{}*NSET, NSET=B, ELSET=EALL\n\
+             *NSET, NSET=B\n{}*SURFACE, NAME=S, TYPE=NODE\n{}",
+            one_tet(),
+            "A, A, 11\n".repeat(40),
+            "B, A\n".repeat(40),
+            "B\n".repeat(40),
+        );
+        let deck = read_text("self-copy", &text).unwrap();
+        assert_eq!(deck.mesh.node_sets["A"], vec![0, 1]);
+        assert_eq!(deck.mesh.node_sets["B"].len(), 10);
+        assert_eq!(deck.mesh.node_sets["S"].len(), 10);
+    }
+
+    #[test]
+    fn a_long_generate_range_costs_only_the_labels_that_exist() {
+        // Expanded on its line, "1, 99999999" (12 bytes) made 100 million members.
+        let text = format!(
+            "{}*NSET, NSET=G, GENERATE\n1, 99999999\n*ELSET, ELSET=EG, GENERATE\n\
+             1, 99999999, 2\n*NSET, NSET=FROM, ELSET=EG\n*NSET, NSET=G\nG, G\n",
+            one_tet()
+        );
+        let deck = read_text("long-generate", &text).unwrap();
+        assert_eq!(deck.mesh.node_sets["G"], (0..10).collect::<Vec<_>>());
+        // Element 7 is odd, so in the second range.
+        assert_eq!(deck.element_sets["EG"], vec![0]);
+        assert_eq!(deck.mesh.node_sets["FROM"].len(), 10);
+        let w = deck
+            .warnings
+            .iter()
+            .find(|w| w.contains("node set G:"))
+            .expect("warning for G");
+        assert!(w.contains("99999989 label(s)"), "{w}");
     }
 
     #[test]

@@ -102,15 +102,10 @@ impl Reader {
         let mut out = BTreeMap::new();
         let mut notes = Vec::new();
         for (canon, set) in sets {
-            let mut indices = Vec::with_capacity(set.members.len());
-            let mut missing: Option<(usize, Loc)> = None;
-            for m in &set.members {
+            let mut indices = Vec::with_capacity(set.members().len());
+            for m in set.members() {
                 match index.get(&m.label) {
                     Some(&i) => indices.push(i),
-                    None if m.generated => {
-                        let entry = missing.get_or_insert((0, m.loc));
-                        entry.0 += 1;
-                    }
                     None => {
                         return Err(self.err(
                             m.loc,
@@ -121,6 +116,15 @@ impl Reader {
                         ))
                     }
                 }
+            }
+            let mut missing: Option<(u64, Loc)> = None;
+            for range in set.ranges() {
+                let found = range.existing(index);
+                let absent = range.len() - found.len() as u64;
+                if absent > 0 {
+                    missing.get_or_insert((0, range.loc)).0 += absent;
+                }
+                indices.extend(found);
             }
             indices.sort_unstable();
             indices.dedup();

@@ -290,6 +290,58 @@ pub(super) fn parse_number<T: std::str::FromStr>(token: &[u8], what: &str) -> Re
 
 /// Capacity for a count read from the file: never more than the bytes left could hold, so a
 /// corrupt count cannot make us allocate absurd amounts before the data runs out.
-pub(super) fn capacity(count: u64, remaining: usize) -> usize {
-    usize::try_from(count).unwrap_or(usize::MAX).min(remaining)
+impl Cursor<'_> {
+    /// A size_t count ([`Cursor::size`]), checked by [`Cursor::count`].
+    pub(super) fn size_count(
+        &mut self,
+        what: &str,
+        ascii_tokens: usize,
+        binary_bytes: usize,
+    ) -> Result<usize, MeshError> {
+        let declared = self.size(what)?;
+        self.count(declared, ascii_tokens, binary_bytes, what)
+    }
+
+    /// A count always written in text, checked by [`Cursor::count`].
+    pub(super) fn ascii_count(
+        &mut self,
+        what: &str,
+        ascii_tokens: usize,
+    ) -> Result<usize, MeshError> {
+        let declared = self.ascii_number::<u64>(what)?;
+        self.count(declared, ascii_tokens, 0, what)
+    }
+
+    /// A declared count, refused (naming where it was declared) when the rest of the file
+    /// cannot hold that many items: an item is `ascii_tokens` numbers in text, each at least
+    /// a digit and a separator, or `binary_bytes` in a binary section. Checked before the
+    /// count sizes a vector or adds up, so a corrupt count is a sentence, never a large
+    /// allocation or an overflow (a binary element block of 2^64 - 1 elements once
+    /// overflowed the element tally).
+    pub(super) fn count(
+        &self,
+        (count, loc): (u64, Loc),
+        ascii_tokens: usize,
+        binary_bytes: usize,
+        what: &str,
+    ) -> Result<usize, MeshError> {
+        let per_item = if self.binary_numbers {
+            binary_bytes
+        } else {
+            2 * ascii_tokens
+        };
+        let room = self.remaining() / per_item.max(1);
+        match usize::try_from(count) {
+            Ok(n) if n <= room => Ok(n),
+            _ => Err(loc.error(
+                self.file,
+                format!(
+                    "{what} is {count}, but the {} bytes after it hold at most {room} ({} \
+                     bytes each): the file is truncated or the count is corrupt",
+                    self.remaining(),
+                    per_item
+                ),
+            )),
+        }
+    }
 }

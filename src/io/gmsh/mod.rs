@@ -297,6 +297,44 @@ mod tests {
             "{err}"
         );
     }
+    #[test]
+    fn node_counts_the_file_cannot_hold_are_refused_and_element_counts_cannot_overflow() {
+        // Found by fuzzing: a binary element block declaring 2^64 - 1 elements after a block
+        // of one overflowed the tally of elements.
+        let mut bytes = two_tets_binary(false);
+        let at = bytes.windows(10).position(|w| w == b"$Elements\n").unwrap() + 10;
+        // 4 size_t (blocks, elements, smallest and largest tag), the first block (3 ints, its
+        // count, one element of 11 size_t), then the second block's 3 ints and its count.
+        let count = at + 4 * 8 + (3 * 4 + 8 + 11 * 8) + 3 * 4;
+        bytes[count..count + 8].copy_from_slice(&u64::MAX.to_le_bytes());
+        let e = parse(&p("b.msh"), &bytes).unwrap_err().to_string();
+        assert!(
+            e.contains("b.msh") && e.contains("this block declares 18446744073709551615"),
+            "{e}"
+        );
+        // A node count sizes the node arrays: refused on its line when the rest of the file
+        // cannot hold that many nodes, before anything is allocated.
+        for (text, words) in [
+            (
+                "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 4000000000 1 4000000000\n\
+                 1 1 0 1\n1\n0 0 0\n$EndNodes\n",
+                "the number of nodes is 4000000000",
+            ),
+            (
+                "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n99999999999\n1 0 0 0\n\
+                 $EndNodes\n",
+                "the number of nodes is 99999999999",
+            ),
+        ] {
+            let (line, message) = parse_error(text);
+            assert_eq!(line, 5, "{message}");
+            assert!(
+                message.contains(words) && message.contains("hold at most"),
+                "{message}"
+            );
+        }
+    }
+
     // Real Gmsh 4.8.4 output (tests/data), made from:
     //   SetFactory("OpenCASCADE");
     //   Box(1) = {0, 0, 0, 1, 1, 0.3};  Box(2) = {0.2, 0.2, 0.3, 0.5, 0.5, 0.2};

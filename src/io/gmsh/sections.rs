@@ -6,7 +6,7 @@
 use std::collections::HashMap;
 use std::path::Path;
 
-use super::cursor::{capacity, parse_number, show, Cursor, Loc};
+use super::cursor::{parse_number, show, Cursor, Loc};
 use super::element_types::{refusal, type_name, Kind};
 use crate::mesh::MeshError;
 
@@ -231,7 +231,8 @@ impl<'a> Parser<'a> {
     fn physical_names(&mut self) -> Result<(), MeshError> {
         let file = self.file();
         self.c.section = "$PhysicalNames";
-        let (count, _) = self.c.ascii_number::<u64>("the number of physical names")?;
+        let what = "the number of physical names";
+        let (count, _) = self.c.ascii_number::<u64>(what)?;
         for _ in 0..count {
             let (dim, loc) = self
                 .c
@@ -307,13 +308,15 @@ impl<'a> Parser<'a> {
                 for _ in 0..doubles {
                     self.c.double(what)?;
                 }
-                let (n, _) = self.c.size("the number of physical tags")?;
-                let mut physicals = Vec::with_capacity(capacity(n, self.c.remaining()));
+                let what = "the number of physical tags";
+                let n = self.c.size_count(what, 1, 4)?;
+                let mut physicals = Vec::with_capacity(n);
                 for _ in 0..n {
                     physicals.push(self.c.int("a physical tag")?.0);
                 }
                 if dim > 0 {
-                    let (n, _) = self.c.size("the number of bounding entities")?;
+                    let what = "the number of bounding entities";
+                    let (n, _) = self.c.size(what)?;
                     for _ in 0..n {
                         self.c.int("a bounding entity tag")?;
                     }
@@ -386,10 +389,13 @@ impl<'a> Parser<'a> {
     fn nodes41(&mut self) -> Result<(), MeshError> {
         self.begin_data_section("$Nodes")?;
         let (blocks, _) = self.c.size("the number of node blocks")?;
-        let (declared, _) = self.c.size("the number of nodes")?;
+        let what = "the number of nodes";
+        let declared_at = self.c.size(what)?;
         self.c.size("the smallest node tag")?;
         self.c.size("the largest node tag")?;
-        let cap = capacity(declared, self.c.remaining());
+        // A node: its tag and 3 coordinates.
+        let cap = self.c.count(declared_at, 4, 32, what)?;
+        let declared = cap as u64;
         self.raw.node_tags.reserve(cap);
         self.raw.coords.reserve(cap);
         self.raw.node_index.reserve(cap);
@@ -450,8 +456,10 @@ impl<'a> Parser<'a> {
     fn nodes22(&mut self) -> Result<(), MeshError> {
         let file = self.file();
         self.c.section = "$Nodes";
-        let (count, _) = self.c.ascii_number::<u64>("the number of nodes")?;
-        let cap = capacity(count, self.c.remaining());
+        let what = "the number of nodes";
+        // A node line: tag x y z.
+        let count = self.c.ascii_count(what, 4)?;
+        let cap = count;
         self.raw.node_tags.reserve(cap);
         self.raw.coords.reserve(cap);
         self.raw.node_index.reserve(cap);
@@ -517,6 +525,8 @@ impl<'a> Parser<'a> {
         let (declared, _) = self.c.size("the number of elements")?;
         self.c.size("the smallest element tag")?;
         self.c.size("the largest element tag")?;
+        // Nothing is sized by these counts: a block that declares more elements than the
+        // file holds stops at the end of the file, saying so.
         let mut found = 0u64;
         for _ in 0..blocks {
             let ([dim, entity, element_type], n, loc) = self.block_header(
@@ -539,7 +549,16 @@ impl<'a> Parser<'a> {
                     ),
                 ));
             }
-            found += n;
+            // Checked: a binary block of 2^64 - 1 elements once overflowed the tally (fuzzing).
+            found = found.checked_add(n).ok_or_else(|| {
+                loc.error(
+                    file,
+                    format!(
+                        "the element blocks declare more than 2^64 elements: this block \
+                         declares {n}"
+                    ),
+                )
+            })?;
             let per = kind.nodes();
             for _ in 0..n {
                 if self.c.binary_numbers {

@@ -197,9 +197,20 @@ pub(super) fn read_matrix_market(path: &Path) -> Result<Triplets, MatrixFileErro
         }
     } else {
         let expected = size[2];
-        // Never reserve more than the bytes could hold ("1 1 1\n" is 6 bytes), so a corrupt
-        // count cannot make us allocate before the data runs out.
-        raw.reserve(expected.min(bytes / 6));
+        // An entry takes at least 6 bytes ("1 1 1\n"): a count the file cannot hold is
+        // refused on its line, before anything is sized by it.
+        let room = bytes / 6;
+        if expected > room {
+            return Err(MatrixFileError::parse(
+                path,
+                size_line,
+                format!(
+                    "declares {expected} entries, but the file's {bytes} bytes hold at most \
+                     {room} ('row column value' takes at least 6 bytes)"
+                ),
+            ));
+        }
+        raw.reserve(expected);
         while lines.advance()? {
             let text = lines.text();
             if text.is_empty() || text.starts_with('%') {
@@ -531,6 +542,26 @@ mod tests {
         let (line, message) = case("nosize.mtx", &format!("{head}% only comments\n"));
         assert_eq!(line, 3);
         assert!(message.contains("size line"), "{message}");
+    }
+
+    #[test]
+    fn an_entry_count_the_file_cannot_hold_is_refused_on_its_line() {
+        let dir = TempDir::new("mm-count");
+        let text = "%%MatrixMarket matrix coordinate real general\n% c\n3 3 900000000000\n1 1 1\n";
+        let (line, message) = parse_error(read_as(
+            &dir.file("count.mtx", text),
+            MatrixFormat::MatrixMarket,
+        ));
+        assert_eq!(line, 3);
+        assert!(
+            message.contains("declares 900000000000 entries")
+                && message.contains(&format!(
+                    "{} bytes hold at most {}",
+                    text.len(),
+                    text.len() / 6
+                )),
+            "{message}"
+        );
     }
 
     #[test]
