@@ -47,6 +47,43 @@ enum MassRuleArg {
     Gauss4,
 }
 
+/// A study and the command line's changes to it (`sweep`, `study`).
+#[derive(clap::Args)]
+struct StudyFlags {
+    /// A study file (TOML); the built-in brake study when absent.
+    study: Option<PathBuf>,
+    /// Built-in brake preset (when no study file, or to override its preset).
+    #[arg(long)]
+    preset: Option<String>,
+    /// Friction values, e.g. 0.1,0.3,0.5 (default 0.1 to 0.9 by 0.1).
+    #[arg(long, value_delimiter = ',')]
+    friction: Option<Vec<f64>>,
+    /// Every mode from 0 up to this frequency (Hz).
+    #[arg(long)]
+    fmax: Option<f64>,
+    /// Output folder (for `study`: one folder per stage inside, and the report).
+    #[arg(short, long)]
+    output: Option<PathBuf>,
+    /// Write the study (after the command-line changes; for `study`, its [comparison] plan
+    /// filled in) to this TOML file and stop: a starting point for your own.
+    #[arg(long)]
+    write_study: Option<PathBuf>,
+}
+
+impl StudyFlags {
+    /// The changes to the study, and the study file and --write-study path.
+    fn split(self) -> (study::sweep::SweepArgs, Option<PathBuf>, Option<PathBuf>) {
+        let args = study::sweep::SweepArgs {
+            preset: self.preset,
+            friction: self.friction,
+            max_frequency_hz: self.fmax,
+            output: self.output,
+            ..Default::default()
+        };
+        (args, self.study, self.write_study)
+    }
+}
+
 #[derive(Subcommand)]
 enum Command {
     /// Versions of squeal, PETSc, SLEPc and MPI, the solvers available, and each rank's view.
@@ -110,24 +147,8 @@ enum Command {
     /// The friction sweep: sliding equilibrium and complex eigenvalue analysis for each mu,
     /// modes tracked, instabilities found. The built-in brake study when given no file.
     Sweep {
-        /// A study file (TOML); the built-in brake study when absent.
-        study: Option<PathBuf>,
-        /// Built-in brake preset (when no study file, or to override its preset).
-        #[arg(long)]
-        preset: Option<String>,
-        /// Friction values, e.g. 0.1,0.3,0.5 (default 0.1 to 0.9 by 0.1).
-        #[arg(long, value_delimiter = ',')]
-        friction: Option<Vec<f64>>,
-        /// Every mode from 0 up to this frequency (Hz).
-        #[arg(long)]
-        fmax: Option<f64>,
-        /// Output folder.
-        #[arg(short, long)]
-        output: Option<PathBuf>,
-        /// Write the study (after the command-line changes) to this TOML file and stop: a
-        /// starting point for your own.
-        #[arg(long)]
-        write_study: Option<PathBuf>,
+        #[command(flatten)]
+        study: StudyFlags,
         #[command(flatten)]
         interface: InterfaceFlags,
         /// Sweep Craig-Bampton super-elements of the reduced-interface model, assembled with
@@ -155,23 +176,8 @@ enum Command {
     /// what it depends on: a rerun recomputes only what changed, or what an interruption
     /// left unfinished. The built-in brake study when given no file.
     Study {
-        /// A study file (TOML); the built-in brake study when absent.
-        study: Option<PathBuf>,
-        /// Built-in brake preset (when no study file, or to override its preset).
-        #[arg(long)]
-        preset: Option<String>,
-        /// Friction values, e.g. 0.1,0.3,0.5 (default 0.1 to 0.9 by 0.1).
-        #[arg(long, value_delimiter = ',')]
-        friction: Option<Vec<f64>>,
-        /// Every mode from 0 up to this frequency (Hz).
-        #[arg(long)]
-        fmax: Option<f64>,
-        /// Output folder (one folder per stage inside, and the report).
-        #[arg(short, long)]
-        output: Option<PathBuf>,
-        /// Write the study, its [comparison] plan filled in, to this TOML file and stop.
-        #[arg(long)]
-        write_study: Option<PathBuf>,
+        #[command(flatten)]
+        study: StudyFlags,
     },
     /// Real modes (K phi = omega^2 M phi) of a mesh file or of the built-in brake.
     Modes {
@@ -513,12 +519,7 @@ fn main() -> ExitCode {
         )
         .map_err(Into::into),
         Command::Sweep {
-            study,
-            preset,
-            friction,
-            fmax,
-            output,
-            write_study,
+            study: flags,
             interface,
             superelements,
             superelement_friction,
@@ -526,47 +527,29 @@ fn main() -> ExitCode {
             k_linear,
             k_cubic,
         } => reduction_flags(&interface).and_then(|reduction| {
-            let args = study::sweep::SweepArgs {
-                preset,
-                friction,
-                max_frequency_hz: fmax,
-                output,
-                reduction,
-                superelements: study::sweep::SuperElementArgs {
-                    strategy: superelements.map(|s| match s {
-                        StrategyArg::Single => squeal::reduce::Strategy::Single,
-                        StrategyArg::PerFriction => squeal::reduce::Strategy::PerFriction,
-                        StrategyArg::Adaptive => squeal::reduce::Strategy::Adaptive,
-                    }),
-                    friction: superelement_friction,
-                    cutoff_hz: cutoff,
-                    k_linear,
-                    k_cubic,
-                },
+            let (mut args, file, write_study) = flags.split();
+            args.reduction = reduction;
+            args.superelements = study::sweep::SuperElementArgs {
+                strategy: superelements.map(|s| match s {
+                    StrategyArg::Single => squeal::reduce::Strategy::Single,
+                    StrategyArg::PerFriction => squeal::reduce::Strategy::PerFriction,
+                    StrategyArg::Adaptive => squeal::reduce::Strategy::Adaptive,
+                }),
+                friction: superelement_friction,
+                cutoff_hz: cutoff,
+                k_linear,
+                k_cubic,
             };
             Ok(study::sweep::run_command(
                 &rt,
-                study.as_deref(),
+                file.as_deref(),
                 args,
                 write_study.as_deref(),
             )?)
         }),
-        Command::Study {
-            study,
-            preset,
-            friction,
-            fmax,
-            output,
-            write_study,
-        } => {
-            let args = study::sweep::SweepArgs {
-                preset,
-                friction,
-                max_frequency_hz: fmax,
-                output,
-                ..Default::default()
-            };
-            study::pipeline::run_command(&rt, study.as_deref(), args, write_study.as_deref())
+        Command::Study { study: flags } => {
+            let (args, file, write_study) = flags.split();
+            study::pipeline::run_command(&rt, file.as_deref(), args, write_study.as_deref())
                 .map_err(Into::into)
         }
         Command::Mesh {
@@ -652,6 +635,14 @@ fn describe(e: &anyhow::Error) -> String {
 mod tests {
     use super::describe;
     use squeal::study::StudyError;
+
+    /// clap's own consistency checks of the whole command line (flags clashing between the
+    /// global ones and a subcommand's, defaults that do not parse...).
+    #[test]
+    fn the_command_line_is_consistent() {
+        use clap::CommandFactory;
+        super::Cli::command().debug_assert();
+    }
 
     #[test]
     fn describe_prints_each_cause_once() {

@@ -224,22 +224,9 @@ fn build<'rt>(
     if !(friction.is_finite() && friction >= 0.0) {
         return Err(SuperElementError::Friction(friction));
     }
-    if equilibrium.len() != model.node_count() {
-        return Err(SuperElementError::EquilibriumSize {
-            given: equilibrium.len(),
-            expected: model.node_count(),
-        });
-    }
+    let (kept, kept_slip) = kept_pairs(reduced, equilibrium, slip, swept)?;
     let boundary = boundary(reduced, operators, swept)?;
     let dofs = &operators.dofs;
-    let kept_indices: Vec<usize> = (0..model.pairs.len())
-        .filter(|i| !swept.contains(i))
-        .collect();
-    let kept: Vec<ContactPair> = kept_indices
-        .iter()
-        .map(|&i| model.pairs[i].clone())
-        .collect();
-    let kept_slip = slip.subset(&kept_indices);
 
     // 1. K_t and the load less the kept contacts' constant part (see [`linearised`]).
     let (k_t, effective_load) = linearised(comm, operators, &kept, &kept_slip, equilibrium)?;
@@ -475,6 +462,31 @@ fn build<'rt>(
         boundary_equations: boundary.equations,
     })
 }
+/// The pairs a super-element keeps (every pair but the swept ones) with their slip history,
+/// after checking that the equilibrium is one of this model's.
+fn kept_pairs(
+    reduced: &ReducedInterface,
+    equilibrium: &[[f64; 3]],
+    slip: &contact::SlipHistory,
+    swept: &[usize],
+) -> Result<(Vec<ContactPair>, contact::SlipHistory), SuperElementError> {
+    let model = &reduced.model;
+    if equilibrium.len() != model.node_count() {
+        return Err(SuperElementError::EquilibriumSize {
+            given: equilibrium.len(),
+            expected: model.node_count(),
+        });
+    }
+    let kept_indices: Vec<usize> = (0..model.pairs.len())
+        .filter(|i| !swept.contains(i))
+        .collect();
+    let kept = kept_indices
+        .iter()
+        .map(|&i| model.pairs[i].clone())
+        .collect();
+    Ok((kept, slip.subset(&kept_indices)))
+}
+
 /// The model linearised at an equilibrium with the swept contact removed: K_t = K + the
 /// kept pairs' tangent (Coulomb pairs: the consistent tangent of their stick or slip state),
 /// and the load less the constant part of the kept contacts' affine linearisation.
@@ -548,25 +560,11 @@ pub fn reproject<'rt>(
     basis: &super::LocalBasis,
     superelement: &mut SuperElement,
 ) -> Result<(), SuperElementError> {
-    let model = &reduced.model;
     let Configuration {
         displacement: equilibrium,
         slip,
     } = equilibrium;
-    if equilibrium.len() != model.node_count() {
-        return Err(SuperElementError::EquilibriumSize {
-            given: equilibrium.len(),
-            expected: model.node_count(),
-        });
-    }
-    let kept_indices: Vec<usize> = (0..model.pairs.len())
-        .filter(|i| !swept.contains(i))
-        .collect();
-    let kept: Vec<ContactPair> = kept_indices
-        .iter()
-        .map(|&i| model.pairs[i].clone())
-        .collect();
-    let kept_slip = slip.subset(&kept_indices);
+    let (kept, kept_slip) = kept_pairs(reduced, equilibrium, slip, swept)?;
     let (k_t, effective_load) = linearised(comm, operators, &kept, &kept_slip, equilibrium)?;
     let rows = basis.rows();
     let mut t = DenseMatrix::zeros(comm, rows.len(), basis.size())?;

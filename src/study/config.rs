@@ -578,7 +578,7 @@ impl Study {
         })?;
         // Every key has a default, so an empty file used to be the default study (the
         // built-in brake without its supports, reported as a free disc after assembly).
-        if toml::from_str::<toml::Table>(&text).is_ok_and(|t| t.is_empty()) {
+        if toml::from_str::<toml::Table>(text).is_ok_and(|t| t.is_empty()) {
             return Err(ConfigError::Empty {
                 file: path.to_path_buf(),
             });

@@ -57,13 +57,7 @@ pub fn run_command(
     // The plan is part of the study a user edits: written out whole, defaults filled in.
     study.comparison = Some(study.comparison.unwrap_or_default());
     if let Some(path) = write_study {
-        return crate::study::report::on_root(comm, || {
-            let text = toml::to_string_pretty(&study)
-                .map_err(|source| StudyError::StudyToml { source })?;
-            crate::study::report::write_file(path, text.as_bytes())?;
-            println!("wrote {}", path.display());
-            Ok(())
-        });
+        return sweep::write_study_file(comm, &study, path);
     }
     let mesh_hash = match &study.mesh.file {
         Some(path) => collective(

@@ -243,15 +243,20 @@ pub fn run_command(
     let comm = rt.world();
     let (study, name) = study_from_args(comm, file, args)?;
     if let Some(path) = write_study {
-        return super::report::on_root(comm, || {
-            let text = toml::to_string_pretty(&study)
-                .map_err(|source| StudyError::StudyToml { source })?;
-            write_file(path, text.as_bytes())?;
-            println!("wrote {}", path.display());
-            Ok(())
-        });
+        return write_study_file(comm, &study, path);
     }
     run(rt, &study, &name).map(|_| ())
+}
+
+/// `--write-study`: the study as TOML, written by rank 0 (collective).
+pub fn write_study_file(comm: Comm<'_>, study: &Study, path: &Path) -> Result<(), StudyError> {
+    super::report::on_root(comm, || {
+        let text =
+            toml::to_string_pretty(study).map_err(|source| StudyError::StudyToml { source })?;
+        write_file(path, text.as_bytes())?;
+        println!("wrote {}", path.display());
+        Ok(())
+    })
 }
 
 /// `squeal superelement`: builds the super-element of a study's reduced interface at its

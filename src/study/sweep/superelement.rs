@@ -23,7 +23,7 @@ use crate::petsc::{Comm, DenseMatrix, Vector};
 use crate::reduce::assembly::{
     Assembly, CubicContact, DenseCeaOptions, DenseCeaResult, ReducedStatic, StaticOptions,
 };
-use crate::reduce::{self, Decision, LocalBasis, Strategy};
+use crate::reduce::{self, Decision, LocalBasis, ReducedInterface, Strategy};
 use crate::study::bench::peak_rss_mib;
 use crate::study::config::Study;
 use crate::study::report::collective;
@@ -70,6 +70,11 @@ pub struct SuperElementModel<'rt> {
     built: usize,
     mesh_hash: String,
     study_hash: String,
+}
+
+/// The reduced interface a super-element is built on.
+fn reduced_interface<'a>(base: &'a FullModel<'_>) -> Result<&'a ReducedInterface, StudyError> {
+    base.reduced.as_ref().ok_or(StudyError::NoReducedInterface)
 }
 
 /// How the point's super-element came about.
@@ -175,11 +180,7 @@ impl<'rt> SuperElementModel<'rt> {
         equilibrium: &StaticSolution,
         mu: f64,
     ) -> Result<(), StudyError> {
-        let reduced = self
-            .base
-            .reduced
-            .as_ref()
-            .ok_or(StudyError::NoReducedInterface)?;
+        let reduced = reduced_interface(&self.base)?;
         let cb = reduce::build_with_basis(
             comm,
             reduced,
@@ -259,11 +260,7 @@ impl<'rt> SuperElementModel<'rt> {
         equilibrium: &StaticSolution,
         mu: f64,
     ) -> Result<(), StudyError> {
-        let reduced = self
-            .base
-            .reduced
-            .as_ref()
-            .ok_or(StudyError::NoReducedInterface)?;
+        let reduced = reduced_interface(&self.base)?;
         let current = self.current.as_mut().ok_or(StudyError::NoSuperElement)?;
         reduce::reproject(
             comm,
