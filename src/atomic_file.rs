@@ -36,9 +36,13 @@ pub fn write_with(
     // tempfile gives a unique hidden name created exclusively (two runs writing one folder
     // cannot clobber each other's temporary), and removes it on every early return or
     // panic: only `persist` keeps it, under the final name.
+    // Mode 0666 less the umask, as a plain File::create gives: a temporary file is made
+    // 0600 (private), and results are for others to read too (a report forwarded, a
+    // colleague's ParaView).
     let temp = tempfile::Builder::new()
         .prefix(&format!(".{}.", name.to_string_lossy()))
         .suffix(".tmp")
+        .permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666))
         .tempfile_in(dir)?;
     let mut out = BufWriter::new(temp.as_file().try_clone()?);
     fill(&mut out)?;
@@ -50,4 +54,24 @@ pub fn write_with(
 /// Writes `contents` to `path` atomically.
 pub fn write(path: &Path, contents: &[u8]) -> std::io::Result<()> {
     write_with(path, |out| out.write_all(contents))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::os::unix::fs::PermissionsExt;
+
+    /// A result file gets the mode a plain `File::create` gives (0666 less the umask), not
+    /// the temporary file's private 0600.
+    #[test]
+    fn a_result_is_readable_as_a_created_file_is() {
+        let dir = tempfile::tempdir().unwrap();
+        let plain = dir.path().join("plain");
+        File::create(&plain).unwrap();
+        let written = dir.path().join("written");
+        write(&written, b"x").unwrap();
+        let mode = |p: &Path| std::fs::metadata(p).unwrap().permissions().mode() & 0o777;
+        assert_eq!(mode(&written), mode(&plain));
+        assert_eq!(std::fs::read(&written).unwrap(), b"x");
+    }
 }
