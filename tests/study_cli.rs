@@ -141,31 +141,8 @@ fn a_study_runs_its_stages_reports_them_and_reruns_only_what_changed() {
     write_study(&dir, 0.5);
     let resumed = dir.join("resumed");
     let r = resumed.to_str().unwrap();
-    let (mut job, _session) = common::mpirun_spawn(2, squeal(), &["study", f, "-o", r]);
-    let record = resumed.join("full.stage.json");
-    let started = std::time::Instant::now();
-    while !record.exists() {
-        assert!(
-            job.try_wait().unwrap().is_none(),
-            "the study ended before its first stage was recorded"
-        );
-        assert!(started.elapsed().as_secs() < 300, "no first stage in 300 s");
-        std::thread::sleep(std::time::Duration::from_millis(100));
-    }
-    let signalled = std::process::Command::new("kill")
-        .args(["-INT", &job.id().to_string()])
-        .status()
-        .unwrap();
-    assert!(signalled.success());
-    let stopping = std::time::Instant::now();
-    while job.try_wait().unwrap().is_none() {
-        if stopping.elapsed().as_secs() > 60 {
-            let _ = job.kill();
-            panic!("the interrupted study did not stop within 60 s");
-        }
-        std::thread::sleep(std::time::Duration::from_millis(100));
-    }
-    let stopped = job.wait_with_output().unwrap();
+    let (job, _session) = common::mpirun_spawn(2, squeal(), &["study", f, "-o", r]);
+    let stopped = common::interrupt_when(job, &resumed.join("full.stage.json"));
     let stderr = String::from_utf8_lossy(&stopped.stderr);
     assert!(!stopped.status.success(), "{stderr}");
     // (Rank 0's "interrupted by SIGTERM" line is sweep_cli's to check: mpirun, killing its

@@ -312,7 +312,7 @@ fn an_interrupted_sweep_leaves_the_previous_results_whole() {
         ],
     );
     let before = std::fs::read(out.join("sweep.json")).unwrap();
-    let (mut job, _session) = common::mpirun_spawn(
+    let (job, _session) = common::mpirun_spawn(
         2,
         squeal(),
         &[
@@ -328,35 +328,8 @@ fn an_interrupted_sweep_leaves_the_previous_results_whole() {
         ],
     );
     let first = dir.join("out.partial/mu_0.100/cea.json");
-    let started = std::time::Instant::now();
-    while !first.exists() {
-        assert!(
-            job.try_wait().unwrap().is_none(),
-            "the sweep ended before its first point was written"
-        );
-        assert!(
-            started.elapsed().as_secs() < 300,
-            "no first point after 300 s"
-        );
-        std::thread::sleep(std::time::Duration::from_millis(200));
-    }
-    let signalled = std::process::Command::new("kill")
-        .args(["-INT", &job.id().to_string()])
-        .status()
-        .unwrap();
-    assert!(signalled.success());
-    let stopping = std::time::Instant::now();
-    let status = loop {
-        if let Some(status) = job.try_wait().unwrap() {
-            break status;
-        }
-        if stopping.elapsed().as_secs() > 60 {
-            let _ = job.kill();
-            panic!("the interrupted sweep did not stop within 60 s");
-        }
-        std::thread::sleep(std::time::Duration::from_millis(100));
-    };
-    let output = job.wait_with_output().unwrap();
+    let output = common::interrupt_when(job, &first);
+    let status = output.status;
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(!status.success(), "{stderr}");
     assert!(stderr.contains("squeal: interrupted by SIG"), "{stderr}");

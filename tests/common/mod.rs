@@ -101,3 +101,37 @@ pub fn scratch(prefix: &str, name: &str) -> PathBuf {
     std::fs::create_dir_all(&dir).unwrap();
     dir
 }
+
+/// Waits (up to 300 s) until `ready` exists while `job` runs, sends SIGINT to it (mpirun),
+/// and waits (up to 60 s) for it to end: what the interruption tests share. Returns its
+/// output; panics if the job ends before `ready` appears or does not stop.
+pub fn interrupt_when(mut job: std::process::Child, ready: &Path) -> Output {
+    let started = std::time::Instant::now();
+    while !ready.exists() {
+        assert!(
+            job.try_wait().unwrap().is_none(),
+            "the job ended before {} was written",
+            ready.display()
+        );
+        assert!(
+            started.elapsed().as_secs() < 300,
+            "no {} after 300 s",
+            ready.display()
+        );
+        std::thread::sleep(std::time::Duration::from_millis(100));
+    }
+    let signalled = Command::new("kill")
+        .args(["-INT", &job.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(signalled.success());
+    let stopping = std::time::Instant::now();
+    while job.try_wait().unwrap().is_none() {
+        if stopping.elapsed().as_secs() > 60 {
+            let _ = job.kill();
+            panic!("the interrupted job did not stop within 60 s");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(100));
+    }
+    job.wait_with_output().unwrap()
+}
