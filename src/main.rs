@@ -172,9 +172,10 @@ enum Command {
     },
     /// The whole comparison in one command: the full model's friction sweep, the
     /// reduced-interface sweeps and super-element strategies of the study's [comparison],
-    /// then the comparisons, and report.md / report.html. Each stage is cached by a key of
-    /// what it depends on: a rerun recomputes only what changed, or what an interruption
-    /// left unfinished. The built-in brake study when given no file.
+    /// then the comparisons, and report.md / report.html. Each stage, and each friction
+    /// value of a sweep, is cached by a key of what it depends on: a rerun recomputes only
+    /// what changed, the new friction values, or what an interruption left unfinished. The
+    /// built-in brake study when given no file.
     Study {
         #[command(flatten)]
         study: StudyFlags,

@@ -1,6 +1,7 @@
 //! `squeal study` under `mpirun -n 2`: every stage runs, the report carries the comparison's
-//! numbers, a rerun reuses every stage, a changed key recomputes only what depends on it, and
-//! a run interrupted after its first stage resumes there with the same numbers.
+//! numbers, a rerun reuses every stage, a changed key recomputes only what depends on it, a
+//! run interrupted in the middle of a sweep resumes after its last finished point with the
+//! same numbers, and a longer friction list computes only its new points.
 
 mod common;
 
@@ -9,9 +10,38 @@ use serde_json::Value;
 use std::path::{Path, PathBuf};
 
 fn success(args: &[&str]) -> String {
+    success_with_log(args).0
+}
+
+/// A successful run's standard output and its log (standard error).
+fn success_with_log(args: &[&str]) -> (String, String) {
     let run = common::mpirun(2, squeal(), args);
     assert!(run.status.success(), "{}", common::text(&run));
-    String::from_utf8_lossy(&run.stdout).into_owned()
+    (
+        String::from_utf8_lossy(&run.stdout).into_owned(),
+        String::from_utf8_lossy(&run.stderr).into_owned(),
+    )
+}
+
+/// Friction values a run's log says it took from the point cache, and computed.
+fn points(log: &str) -> (usize, usize) {
+    let reused = log.matches("): from the point cache (key ").count();
+    let computed = log
+        .lines()
+        .filter(|l| l.contains(" INFO mu ") && l.contains("): static "))
+        .count();
+    (reused, computed)
+}
+
+/// The entries of a sweep stage's point cache.
+fn kept_points(out: &Path, stage: &str) -> usize {
+    std::fs::read_dir(out.join("points").join(stage))
+        .map(|d| {
+            d.flatten()
+                .filter(|e| e.path().join("point.json").is_file())
+                .count()
+        })
+        .unwrap_or(0)
 }
 
 /// The example study of the tiny brake (examples/tiny-study.toml: two friction values, one
@@ -137,12 +167,15 @@ fn a_study_runs_its_stages_reports_them_and_reruns_only_what_changed() {
     assert!(ran[1].contains("super-elements against"), "{changed}");
     assert_eq!(cached(&changed), 3, "{changed}");
 
-    // Interrupted after its first stage, a run resumes there with the same numbers.
+    // Interrupted in the middle of the reduced interface's sweep, once its first point is
+    // kept, a run resumes after the finished points with the same numbers.
     write_study(&dir, 0.5);
     let resumed = dir.join("resumed");
     let r = resumed.to_str().unwrap();
     let (job, _session) = common::mpirun_spawn(2, squeal(), &["study", f, "-o", r]);
-    let stopped = common::interrupt_when(job, &resumed.join("full.stage.json"));
+    let stopped = common::interrupt_once(job, "a kept point of reduced-22", || {
+        kept_points(&resumed, "reduced-22") > 0
+    });
     let stderr = String::from_utf8_lossy(&stopped.stderr);
     assert!(!stopped.status.success(), "{stderr}");
     // (Rank 0's "interrupted by SIGTERM" line is sweep_cli's to check: mpirun, killing its
@@ -158,11 +191,16 @@ fn a_study_runs_its_stages_reports_them_and_reruns_only_what_changed() {
             json(&p);
         }
     }
+    assert!(resumed.join("full.stage.json").is_file());
     assert!(!resumed.join("reduced-22.stage.json").exists());
     assert!(!resumed.join("report.md").exists());
-    let rest = success(&["study", f, "-o", r]);
+    let kept = kept_points(&resumed, "reduced-22");
+    let (rest, log) = success_with_log(&["study", f, "-o", r]);
     assert_eq!(cached(&rest), 1, "{rest}");
     assert_eq!(running(&rest).len(), 4, "{rest}");
+    // The finished points of the interrupted sweep are reused, the others computed: two
+    // friction values in each of the two sweeps still to run.
+    assert_eq!(points(&log), (kept, 4 - kept), "{log}");
     let (a, b) = (all_eigenvalues(&out), all_eigenvalues(&resumed));
     assert_eq!(a.len(), b.len());
     for (x, y) in a.iter().zip(&b) {
@@ -170,6 +208,34 @@ fn a_study_runs_its_stages_reports_them_and_reruns_only_what_changed() {
             (x - y).abs() <= 1e-9 * x.abs().max(1.0),
             "resumed {y} against {x}"
         );
+    }
+
+    // One friction value more: each sweep computes it alone and reuses the two it has.
+    let text = std::fs::read_to_string(&file).unwrap();
+    let longer = "friction = [\n    0.3,\n    0.7,\n    0.9,\n]";
+    std::fs::write(
+        &file,
+        text.replace("friction = [\n    0.3,\n    0.7,\n]", longer),
+    )
+    .unwrap();
+    assert!(std::fs::read_to_string(&file).unwrap().contains(longer));
+    let stages = ["full", "reduced-22", "superelements-single-22"];
+    let sweep_points = |stage: &str| -> Vec<Value> {
+        json(&resumed.join(stage).join("sweep.json"))["points"]
+            .as_array()
+            .unwrap()
+            .clone()
+    };
+    let before: Vec<Vec<Value>> = stages.iter().map(|s| sweep_points(s)).collect();
+    let (extended, log) = success_with_log(&["study", f, "-o", r]);
+    assert_eq!(running(&extended).len(), 5, "{extended}");
+    assert_eq!(points(&log), (6, 3), "{log}");
+    for (stage, old) in stages.iter().zip(&before) {
+        let new = sweep_points(stage);
+        assert_eq!(new.len(), 3, "{stage}");
+        // The reused points are the same points, to the bit.
+        assert_eq!(new[..2], old[..], "{stage}");
+        assert_eq!(kept_points(&resumed, stage), 3, "{stage}");
     }
 }
 

@@ -115,7 +115,7 @@ pub fn threshold_problem(threshold: f64) -> Option<String> {
 }
 
 /// One complex mode (one lambda with non-negative frequency).
-#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ComplexMode {
     pub frequency_hz: f64,
     /// Re(lambda), 1/s: positive grows.

@@ -179,6 +179,11 @@ impl SlipHistory {
             .unwrap_or([0.0; 3])
     }
 
+    /// Every point's anchor, per pair and point (what [`Self::from_anchors`] takes back).
+    pub fn anchors(&self) -> &[Vec<[f64; 3]>] {
+        &self.anchors
+    }
+
     /// The history of states (each point's anchor after it), per pair and point.
     pub fn from_anchors(anchors: Vec<Vec<[f64; 3]>>) -> Self {
         SlipHistory { anchors }

@@ -136,6 +136,16 @@ impl<'rt> Comm<'rt> {
         values.resize(length as usize, 0.0);
         root.broadcast_into(&mut values[..]);
     }
+
+    /// Rank 0's `bytes` on every rank (collective): a record rank 0 read from disk (a
+    /// resumed sweep's checkpoint), so that no other rank needs to see rank 0's files.
+    pub fn broadcast_bytes_from_root(&self, bytes: &mut Vec<u8>) {
+        let root = self.mpi.process_at_rank(0);
+        let mut length = bytes.len() as u64;
+        root.broadcast_into(&mut length);
+        bytes.resize(length as usize, 0);
+        root.broadcast_into(&mut bytes[..]);
+    }
 }
 
 impl Runtime {

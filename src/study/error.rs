@@ -211,6 +211,9 @@ pub enum StudyError {
     /// A super-element asked of a model without a reduced interface.
     #[error("a super-element needs a reduced interface ([reduction])")]
     NoReducedInterface,
+    /// A resumed sweep's saved state does not fit the model it is given to.
+    #[error("the point cache's checkpoint does not fit this model: {0}")]
+    Checkpoint(String),
     /// A super-element used before one was built (a bug of the sweep's order).
     #[error("no super-element has been built yet")]
     NoSuperElement,

@@ -105,19 +105,24 @@ pub fn scratch(prefix: &str, name: &str) -> PathBuf {
 /// Waits (up to 300 s) until `ready` exists while `job` runs, sends SIGINT to it (mpirun),
 /// and waits (up to 60 s) for it to end: what the interruption tests share. Returns its
 /// output; panics if the job ends before `ready` appears or does not stop.
-pub fn interrupt_when(mut job: std::process::Child, ready: &Path) -> Output {
+pub fn interrupt_when(job: std::process::Child, ready: &Path) -> Output {
+    interrupt_once(job, &ready.display().to_string(), || ready.exists())
+}
+
+/// [`interrupt_when`] for any sign of readiness: `ready` (what `what` describes) is asked
+/// every 0.1 s.
+pub fn interrupt_once(
+    mut job: std::process::Child,
+    what: &str,
+    ready: impl Fn() -> bool,
+) -> Output {
     let started = std::time::Instant::now();
-    while !ready.exists() {
+    while !ready() {
         assert!(
             job.try_wait().unwrap().is_none(),
-            "the job ended before {} was written",
-            ready.display()
+            "the job ended before {what}"
         );
-        assert!(
-            started.elapsed().as_secs() < 300,
-            "no {} after 300 s",
-            ready.display()
-        );
+        assert!(started.elapsed().as_secs() < 300, "no {what} after 300 s");
         std::thread::sleep(std::time::Duration::from_millis(100));
     }
     let signalled = Command::new("kill")

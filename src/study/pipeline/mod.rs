@@ -9,9 +9,12 @@
 //! stage it stopped in, and a changed study key recomputes only the stages it affects. A
 //! stage is never half-written: sweeps stage their folder (`<stage>.partial`, see
 //! [`crate::study::staging`]), and the record is removed before a stage runs and written
-//! only after it is whole. Within an interrupted sweep the finished friction values are
-//! recomputed: a point's equilibrium starts from the previous one's (with the Coulomb slip
-//! history), which a resumed sweep would have to restore first.
+//! only after it is whole.
+//!
+//! Cache and resume, by point: within a sweep stage every finished friction value is kept in
+//! `points/<stage>/` with what the next point starts from
+//! ([`crate::study::sweep::point_cache`]), so a sweep stopped part-way resumes after its last
+//! finished point, and a sweep rerun with more friction values computes only the new ones.
 
 mod record;
 pub mod report;
@@ -20,12 +23,16 @@ pub mod stage;
 use crate::petsc::Runtime;
 use crate::study::compare;
 use crate::study::report::collective;
+use crate::study::sweep::point_cache::PointCache;
 use crate::study::sweep::{self, SweepArgs};
 use crate::study::StudyError;
 use record::StageRecord;
 use stage::{Stage, Work};
 use std::path::Path;
 use std::time::Instant;
+
+/// The folder under the study's output where each sweep stage keeps its finished points.
+pub const POINTS: &str = "points";
 
 /// How one stage went in this run.
 #[derive(Clone, Debug, PartialEq)]
@@ -143,7 +150,8 @@ fn run_stage(
     let t = Instant::now();
     match &stage.work {
         Work::Sweep(study) => {
-            sweep::run(rt, study, study_name)?;
+            let cache = PointCache::new(out.join(POINTS).join(&stage.name), &stage.point_key);
+            sweep::run(rt, study, study_name, Some(cache))?;
         }
         Work::Compare(inputs) => {
             let paths: Vec<_> = inputs.iter().map(|i| out.join(i)).collect();

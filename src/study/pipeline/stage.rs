@@ -30,6 +30,9 @@ pub struct Stage {
     pub title: String,
     pub work: Work,
     pub key: String,
+    /// A sweep's key without its friction list: what its finished points are kept under
+    /// ([`crate::study::sweep::point_cache`]); empty for a comparison.
+    pub point_key: String,
 }
 
 /// The version that goes into every key: results of another squeal are not reused.
@@ -77,6 +80,11 @@ pub fn plan(study: &Study, mesh_hash: &str) -> Vec<Stage> {
     };
     let sweep_stage = |name: String, title: String, s: Study| Stage {
         key: sweep_key(&s, mesh_hash),
+        point_key: {
+            let mut model = s.clone();
+            model.analysis.friction = Vec::new();
+            sweep_key(&model, mesh_hash)
+        },
         name,
         title,
         work: Work::Sweep(Box::new(s)),
@@ -136,6 +144,7 @@ pub fn plan(study: &Study, mesh_hash: &str) -> Vec<Stage> {
             name: name.into(),
             title,
             key: text_hash(&format!("{}\ncompare {inputs:?}\n{keys:?}", version())),
+            point_key: String::new(),
             work: Work::Compare(inputs),
         }
     };

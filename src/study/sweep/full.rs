@@ -4,8 +4,8 @@
 
 use super::output::{ModelInfo, PairReport, SweepPointReport};
 use super::{
-    ContactMap, ContactMapPoint, FrictionModel, PointFields, PointOutcome, SurfacePressure,
-    SurfaceShape, UnstableShape,
+    ContactMap, ContactMapPoint, EquilibriumState, FrictionModel, ModelCheckpoint, PointFields,
+    PointOutcome, SurfacePressure, SurfaceShape, UnstableShape,
 };
 use crate::analysis::cea::{self, CeaOptions, RayleighDamping};
 use crate::analysis::restraint::{self, Body};
@@ -317,6 +317,39 @@ impl<'rt> FullModel<'rt> {
         Ok(())
     }
 
+    /// The last equilibrium solved, as a checkpoint keeps it.
+    pub(super) fn previous_state(&self) -> Option<EquilibriumState> {
+        self.previous
+            .as_ref()
+            .map(|p| EquilibriumState::new(p.mu, &p.displacement, &p.slip))
+    }
+
+    /// Makes `state` the last equilibrium solved (none: the next point starts from rest).
+    pub(super) fn restore_previous(
+        &mut self,
+        state: Option<&EquilibriumState>,
+    ) -> Result<(), StudyError> {
+        let nodes = self.model.node_count();
+        self.previous = match state {
+            None => None,
+            Some(s) if s.displacement.len() != nodes || s.slip.len() > self.model.pairs.len() => {
+                return Err(StudyError::Checkpoint(format!(
+                    "it holds {} displacements and {} pairs' slip for a model of {nodes} \
+                     nodes and {} pairs",
+                    s.displacement.len(),
+                    s.slip.len(),
+                    self.model.pairs.len()
+                )));
+            }
+            Some(s) => Some(Previous {
+                mu: s.mu,
+                displacement: s.displacement.clone(),
+                slip: s.slip_history(),
+            }),
+        };
+        Ok(())
+    }
+
     fn remember(&mut self, mu: f64, equilibrium: &statics::StaticSolution) {
         self.previous = Some(Previous {
             mu,
@@ -358,6 +391,21 @@ impl<'rt> FullModel<'rt> {
 }
 
 impl<'rt> FrictionModel<'rt> for FullModel<'rt> {
+    fn checkpoint(&self) -> ModelCheckpoint {
+        ModelCheckpoint {
+            previous: self.previous_state(),
+            superelement: None,
+        }
+    }
+
+    fn restore(
+        &mut self,
+        _comm: Comm<'rt>,
+        checkpoint: &ModelCheckpoint,
+    ) -> Result<(), StudyError> {
+        self.restore_previous(checkpoint.previous.as_ref())
+    }
+
     fn info(&self) -> ModelInfo {
         let mesh = &self.model.mesh;
         ModelInfo {

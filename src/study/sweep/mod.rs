@@ -8,10 +8,13 @@
 //! trait, so every kind of model goes through the same tracking, reports and outputs and
 //! `squeal compare` reads their folders alike.
 
+mod checkpoint;
 mod full;
 mod output;
+pub mod point_cache;
 mod superelement;
 
+pub use checkpoint::{EquilibriumState, ModelCheckpoint, SuperElementState};
 pub use full::FullModel;
 pub use output::{ModelInfo, PairReport, SuperElementInfo, SuperElementPoint, SweepPointReport};
 pub use superelement::{SuperElementModel, SuperElementSettings};
@@ -122,6 +125,12 @@ pub trait FrictionModel<'rt> {
     fn mesh(&self) -> &Mesh;
     /// The equilibrium and the CEA at friction `mu`, warm-started from the previous point.
     fn solve_point(&mut self, comm: Comm<'rt>, mu: f64) -> Result<PointOutcome, StudyError>;
+    /// What the next point starts from (the same on every rank).
+    fn checkpoint(&self) -> ModelCheckpoint;
+    /// Stands where [`Self::checkpoint`] was taken, as if the points before it had just been
+    /// solved: a resumed sweep's next point then gives the numbers it would have given.
+    /// Collective.
+    fn restore(&mut self, comm: Comm<'rt>, checkpoint: &ModelCheckpoint) -> Result<(), StudyError>;
 }
 
 /// What a sweep runs and where it writes.
@@ -132,6 +141,8 @@ pub struct SweepPlan {
     /// the tracking's: one decision of "unstable" everywhere.
     pub unstable_threshold: f64,
     pub output: PathBuf,
+    /// Where finished points are kept for a resumed or extended sweep (`squeal study`).
+    pub cache: Option<point_cache::PointCache>,
 }
 
 /// What a finished sweep found (rank 0; empty on other ranks).
@@ -245,7 +256,7 @@ pub fn run_command(
     if let Some(path) = write_study {
         return write_study_file(comm, &study, path);
     }
-    run(rt, &study, &name).map(|_| ())
+    run(rt, &study, &name, None).map(|_| ())
 }
 
 /// `--write-study`: the study as TOML, written by rank 0 (collective).
@@ -299,13 +310,21 @@ pub fn superelement_command(
     Ok(())
 }
 
-/// Runs the sweep of a study on its full model (collective); rank 0 prints and writes.
-pub fn run(rt: &Runtime, study: &Study, file: &str) -> Result<SweepSummary, StudyError> {
+/// Runs the sweep of a study on its model (collective); rank 0 prints and writes. With a
+/// `cache`, the points it holds for this model and friction path are reused and the rest are
+/// kept there as they finish.
+pub fn run(
+    rt: &Runtime,
+    study: &Study,
+    file: &str,
+    cache: Option<point_cache::PointCache>,
+) -> Result<SweepSummary, StudyError> {
     let comm = rt.world();
     let plan = SweepPlan {
         friction: study.analysis.friction.clone(),
         unstable_threshold: study.analysis.unstable_threshold,
         output: study.output.clone(),
+        cache,
     };
     if study
         .reduction
@@ -352,6 +371,82 @@ pub fn sweep<'rt>(
     Ok(summary)
 }
 
+/// A point's folder in a sweep's output.
+fn point_folder(mu: f64) -> String {
+    format!("mu_{mu:.3}")
+}
+
+/// Reuses the longest run of leading points the cache holds (`keys`, one per point): their
+/// files go into the output, their reports and shapes into `reports` and `points`, and the
+/// model is restored to where the last of them left it. Returns how many were reused.
+/// Collective: rank 0 reads the cache and every rank follows.
+fn resume<'rt>(
+    comm: Comm<'rt>,
+    model: &mut dyn FrictionModel<'rt>,
+    plan: &SweepPlan,
+    keys: &[String],
+    reports: &mut Vec<SweepPointReport>,
+    points: &mut Vec<SweepPoint>,
+) -> Result<usize, StudyError> {
+    let Some(cache) = &plan.cache else {
+        return Ok(0);
+    };
+    let mut checkpoint = Vec::new();
+    let local = if comm.rank() == 0 {
+        (|| -> Result<(), StudyError> {
+            let mut last = None;
+            for (step, key) in keys.iter().enumerate() {
+                let Some(point) = cache.load(key) else { break };
+                let mu = plan.friction[step];
+                cache.publish(key, &plan.output.join(point_folder(mu)))?;
+                let (report, shapes, cp) = point.into_parts();
+                tracing::info!(
+                    "mu {mu:.2} ({}/{}): from the point cache (key {key})",
+                    step + 1,
+                    keys.len()
+                );
+                points.push(SweepPoint {
+                    mu,
+                    eigenvalues: report.eigenvalues.iter().map(|m| m.lambda).collect(),
+                    shapes,
+                });
+                reports.push(report);
+                last = Some(cp);
+            }
+            if let Some(cp) = last {
+                checkpoint = serde_json::to_vec(&cp).map_err(|source| StudyError::JsonFile {
+                    path: cache.dir().to_path_buf(),
+                    source,
+                })?;
+            }
+            Ok(())
+        })()
+    } else {
+        Ok(())
+    };
+    super::report::collective(comm, local)?;
+    let mut count = vec![reports.len() as f64];
+    comm.broadcast_from_root(&mut count);
+    let resumed = count[0] as usize;
+    if resumed == 0 {
+        return Ok(0);
+    }
+    comm.broadcast_bytes_from_root(&mut checkpoint);
+    let cp: ModelCheckpoint =
+        serde_json::from_slice(&checkpoint).map_err(|source| StudyError::JsonFile {
+            path: cache.dir().to_path_buf(),
+            source,
+        })?;
+    model.restore(comm, &cp)?;
+    if comm.rank() == 0 {
+        tracing::info!(
+            "resumed after {resumed} finished point(s) of {} from the point cache",
+            keys.len()
+        );
+    }
+    Ok(resumed)
+}
+
 /// The sweep written into `plan.output` (the staging folder of `published`).
 fn sweep_into<'rt>(
     comm: Comm<'rt>,
@@ -371,11 +466,24 @@ fn sweep_into<'rt>(
         .file_name()
         .map_or("sweep".to_string(), |n| n.to_string_lossy().into_owned());
     let bar = super::progress::Progress::new(comm.rank(), &name, total);
-    for (step, &mu) in plan.friction.iter().enumerate() {
+    let keys: Vec<String> = match &plan.cache {
+        Some(c) => (0..total).map(|i| c.key(&plan.friction[..=i])).collect(),
+        None => Vec::new(),
+    };
+    let resumed = resume(comm, model, plan, &keys, &mut reports, &mut points)?;
+    for _ in 0..resumed {
+        bar.step();
+    }
+    for (step, &mu) in plan.friction.iter().enumerate().skip(resumed) {
         bar.message(format!("mu {mu:.3}"));
+        let kept = if plan.cache.is_some() {
+            "; they are kept in the point cache, and a rerun resumes after them"
+        } else {
+            ""
+        };
         interrupt::progress(format!(
-            " at mu {mu:.3} (point {} of {total}); {} finished point(s) are whole in {}; {} \
-             is unchanged",
+            " at mu {mu:.3} (point {} of {total}); {} finished point(s) are whole in {}{kept}; \
+             {} is unchanged",
             step + 1,
             step,
             plan.output.display(),
@@ -385,8 +493,22 @@ fn sweep_into<'rt>(
         let report = outcome.report;
         if root {
             tracing::info!("mu {mu:.2} ({}/{total}): {}", step + 1, report.log_line());
-            let dir = plan.output.join(format!("mu_{mu:.3}"));
+            let dir = plan.output.join(point_folder(mu));
             output::write_point(&dir, model.mesh(), outcome.fields.as_ref(), &report, &info)?;
+            if let Some(cache) = &plan.cache {
+                let kept = point_cache::CachedPoint::new(
+                    mu,
+                    &report,
+                    &outcome.tracking_shapes,
+                    model.checkpoint(),
+                );
+                // The cache saves time later; failing to fill it costs none now.
+                if let Err(e) = cache.store(&keys[step], &dir, &kept) {
+                    tracing::warn!(
+                        "mu {mu:.3} is not kept in the point cache ({e}); a rerun recomputes it"
+                    );
+                }
+            }
             points.push(SweepPoint {
                 mu,
                 eigenvalues: report.eigenvalues.iter().map(|m| m.lambda).collect(),
@@ -395,6 +517,14 @@ fn sweep_into<'rt>(
         }
         reports.push(report);
         bar.step();
+    }
+    if let (true, Some(cache)) = (root, &plan.cache) {
+        if let Err(e) = cache.prune(&keys) {
+            tracing::warn!(
+                "the point cache {} is not pruned: {e}",
+                cache.dir().display()
+            );
+        }
     }
     drop(bar);
     if !root {

@@ -12,7 +12,7 @@ use crate::study::StudyError;
 use std::path::Path;
 
 /// One friction value's results, as written to sweep.json.
-#[derive(Clone, Debug, serde::Serialize)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct SweepPointReport {
     pub friction: f64,
     pub static_iterations: usize,
@@ -40,7 +40,7 @@ pub struct SweepPointReport {
 }
 
 /// What the super-element assembly did at one friction value (sweep.json).
-#[derive(Clone, Debug, serde::Serialize)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct SuperElementPoint {
     pub strategy: String,
     /// Which super-element (1 = the first built in this sweep) served this point.
@@ -145,7 +145,7 @@ impl SweepPointReport {
     }
 }
 
-#[derive(Clone, Debug, serde::Serialize)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct PairReport {
     pub name: String,
     pub points: usize,

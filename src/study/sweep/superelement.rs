@@ -13,9 +13,12 @@
 
 use super::full::{mesh_part, FullModel};
 use super::output::{ModelInfo, PairReport, SuperElementInfo, SuperElementPoint};
-use super::{FrictionModel, PointOutcome, SweepPointReport, UnstableShape};
+use super::{
+    EquilibriumState, FrictionModel, ModelCheckpoint, PointOutcome, SuperElementState,
+    SweepPointReport, UnstableShape,
+};
 use crate::analysis::cea::ComplexMode;
-use crate::analysis::statics::{self, StaticSolution};
+use crate::analysis::statics::{self, Configuration, StaticSolution};
 use crate::contact::{self, PointState, SlipHistory, Status};
 use crate::mesh::hash;
 use crate::mesh::Mesh;
@@ -54,6 +57,9 @@ struct Current {
     /// 1-based: the how-manieth built in this sweep.
     index: usize,
     made_at: f64,
+    /// The equilibrium it was made at, with the slip history that was reached from (what a
+    /// resumed sweep rebuilds it from).
+    made_from: EquilibriumState,
     /// The slip history its equilibrium was reached from (the kept Coulomb pairs' tangent
     /// and states at that equilibrium come from it).
     slip: SlipHistory,
@@ -68,6 +74,8 @@ pub struct SuperElementModel<'rt> {
     /// The previous point's dense static (the single strategy's warm start).
     previous_q: Option<Vec<f64>>,
     built: usize,
+    /// The last build's fixed-interface mode count: the next build's first guess.
+    interior_modes: Option<usize>,
     mesh_hash: String,
     study_hash: String,
 }
@@ -149,6 +157,7 @@ impl<'rt> SuperElementModel<'rt> {
             current: None,
             previous_q: None,
             built: 0,
+            interior_modes: None,
         })
     }
 
@@ -180,20 +189,31 @@ impl<'rt> SuperElementModel<'rt> {
         equilibrium: &StaticSolution,
         mu: f64,
     ) -> Result<(), StudyError> {
+        self.build_at(comm, equilibrium.configuration(), mu)
+    }
+
+    /// Builds a super-element at the equilibrium `at` (friction `mu`) and makes it current.
+    fn build_at(
+        &mut self,
+        comm: Comm<'rt>,
+        at: Configuration<'_>,
+        mu: f64,
+    ) -> Result<(), StudyError> {
         let reduced = reduced_interface(&self.base)?;
         let cb = reduce::build_with_basis(
             comm,
             reduced,
             self.base.operators(),
-            equilibrium.configuration(),
+            at,
             &self.swept,
             &reduce::BuildSettings {
                 friction: mu,
                 cutoff_hz: self.settings.cutoff_hz,
-                interior_modes_hint: self.current.as_ref().map(|c| c.se.header.modes),
+                interior_modes_hint: self.interior_modes,
             },
         )
         .map_err(|source| StudyError::SuperElement { mu, source })?;
+        self.interior_modes = Some(cb.superelement.header.modes);
         let basis = LocalBasis::from_dense(&cb.basis)?;
         let mut se = cb.superelement;
         se.header.mesh_hash = self.mesh_hash.clone();
@@ -206,7 +226,8 @@ impl<'rt> SuperElementModel<'rt> {
             boundary_points: cb.boundary_points,
             index: self.built,
             made_at: mu,
-            slip: equilibrium.slip_before.clone(),
+            made_from: EquilibriumState::new(mu, at.displacement, at.slip),
+            slip: at.slip.clone(),
         });
         Ok(())
     }
@@ -452,6 +473,55 @@ impl<'rt> SuperElementModel<'rt> {
 }
 
 impl<'rt> FrictionModel<'rt> for SuperElementModel<'rt> {
+    fn checkpoint(&self) -> ModelCheckpoint {
+        // Per friction value a new super-element is built at every point: the current one
+        // is never used again, so a resumed sweep need not rebuild it.
+        let keeps_current = self.settings.strategy != Strategy::PerFriction;
+        ModelCheckpoint {
+            previous: self.base.previous_state(),
+            superelement: Some(SuperElementState {
+                built: self.built,
+                current: self
+                    .current
+                    .as_ref()
+                    .filter(|_| keeps_current)
+                    .map(|c| (c.index, c.made_from.clone())),
+                interior_modes: self.interior_modes,
+                previous_q: self.previous_q.clone(),
+            }),
+        }
+    }
+
+    fn restore(&mut self, comm: Comm<'rt>, checkpoint: &ModelCheckpoint) -> Result<(), StudyError> {
+        let state = checkpoint.superelement.as_ref().ok_or_else(|| {
+            StudyError::Checkpoint("it was taken of a model without super-elements".into())
+        })?;
+        self.current = None;
+        self.interior_modes = state.interior_modes;
+        if let Some((index, made)) = &state.current {
+            self.base.restore_previous(Some(made))?;
+            let slip = made.slip_history();
+            let at = Configuration {
+                displacement: &made.displacement,
+                slip: &slip,
+            };
+            self.build_at(comm, at, made.mu)?;
+            if let Some(c) = self.current.as_mut() {
+                c.index = *index;
+            }
+            if comm.rank() == 0 {
+                tracing::info!(
+                    "resumed: super-element #{index} rebuilt at its equilibrium (mu {})",
+                    made.mu
+                );
+            }
+        }
+        self.interior_modes = state.interior_modes;
+        self.built = state.built;
+        self.previous_q = state.previous_q.clone();
+        self.base.restore_previous(checkpoint.previous.as_ref())
+    }
+
     fn info(&self) -> ModelInfo {
         let mut info = self.base.info();
         let s = &self.settings;
