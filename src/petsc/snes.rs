@@ -38,6 +38,12 @@ struct Callbacks<'f, 'rt> {
     since_factorised: Option<usize>,
     /// Factorisations asked for so far.
     factorizations: usize,
+    /// [`NewtonOptions::roundoff_floor`], and what the convergence test saw: |F0|, the
+    /// previous |F|, and whether it stopped the solve as stagnating on the floor.
+    floor: f64,
+    first_norm: f64,
+    last_norm: f64,
+    floored: bool,
 }
 
 /// Newton settings. PETSc options (`-snes_*`) given at start-up override them.
@@ -57,9 +63,11 @@ pub struct NewtonOptions {
     /// about rank + 1 iterations, each a pair of triangular solves, far cheaper than a new
     /// factorisation. 0 factorises every Jacobian.
     pub keep_factorization_rank: usize,
-    /// A line search that finds no descent once |F| <= this * |F0| is taken as convergence
-    /// to the residual's round-off floor (reason `CONVERGED_ROUNDOFF_FLOOR`) rather than a
-    /// failure. 0: never. See the caller's reason for its value.
+    /// Once |F| <= this * |F0|, an iteration that does not halve |F| (Newton is quadratic
+    /// there unless round-off stops it), or a line search that finds no descent, is taken
+    /// as convergence to the residual's round-off floor (reason `CONVERGED_ROUNDOFF_FLOOR`)
+    /// rather than more iterations or a failure. 0: never. See the caller's reason for its
+    /// value.
     pub roundoff_floor: f64,
 }
 
@@ -180,6 +188,43 @@ unsafe extern "C" fn jacobian_trampoline(
     unsafe { sys::SNESSetLagPreconditioner(snes, if keep.is_some() { -1 } else { -2 }) }
 }
 
+/// PETSc's default test, and the stagnation on the round-off floor
+/// ([`NewtonOptions::roundoff_floor`]): stiff ties leave |F| at eps k |u|, where a Newton step
+/// gains nothing and, before this test, each further iteration cost a factorisation until the
+/// line search failed (ten of twenty on the tiny caliper's reduced interface).
+unsafe extern "C" fn convergence_trampoline(
+    snes: sys::SNES,
+    it: sys::PetscInt,
+    xnorm: sys::PetscReal,
+    snorm: sys::PetscReal,
+    fnorm: sys::PetscReal,
+    reason: *mut sys::SNESConvergedReason,
+    ctx: *mut c_void,
+) -> sys::PetscErrorCode {
+    // SAFETY: live SNES; `reason` is PETSc's out-pointer; ctx is the Box<Callbacks> the
+    // solver owns.
+    let code = unsafe {
+        sys::SNESConvergedDefault(snes, it, xnorm, snorm, fnorm, reason, std::ptr::null_mut())
+    };
+    if code != 0 {
+        return code;
+    }
+    let callbacks = unsafe { &mut *(ctx as *mut Callbacks) };
+    if it == 0 {
+        callbacks.first_norm = fnorm;
+        callbacks.floored = false;
+    } else if unsafe { *reason } == sys::SNES_CONVERGED_ITERATING
+        && fnorm <= callbacks.floor * callbacks.first_norm
+        && fnorm > 0.5 * callbacks.last_norm
+    {
+        callbacks.floored = true;
+        // SAFETY: as above.
+        unsafe { *reason = sys::SNES_CONVERGED_FNORM_ABS };
+    }
+    callbacks.last_norm = fnorm;
+    0
+}
+
 impl<'f, 'rt> NonlinearSolver<'f, 'rt> {
     /// A Newton solver for F(x) = 0 with the Jacobian assembled into `jacobian` (whose
     /// pattern must hold every entry the closure adds). Collective.
@@ -204,6 +249,10 @@ impl<'f, 'rt> NonlinearSolver<'f, 'rt> {
                 },
                 since_factorised: None,
                 factorizations: 0,
+                floor: options.roundoff_floor,
+                first_norm: 0.0,
+                last_norm: 0.0,
+                floored: false,
             }),
             jacobian,
             history: vec![0.0; options.max_iterations + 2],
@@ -252,6 +301,14 @@ impl<'f, 'rt> NonlinearSolver<'f, 'rt> {
                 check(sys::KSPGMRESSetRestart(ksp, limit))?;
                 check(sys::KSPSetTolerances(ksp, 1e-12, 1e-50, 1e10, limit))?;
             }
+            if options.roundoff_floor > 0.0 {
+                check(sys::SNESSetConvergenceTest(
+                    raw,
+                    Some(convergence_trampoline),
+                    ctx,
+                    None,
+                ))?;
+            }
             check(sys::SNESSetConvergenceHistory(
                 raw,
                 solver.history.as_mut_ptr(),
@@ -296,7 +353,7 @@ impl<'f, 'rt> NonlinearSolver<'f, 'rt> {
             (Some(&first), Some(&last)) => last <= self.roundoff_floor * first,
             _ => false,
         };
-        if reason == sys::SNES_DIVERGED_LINE_SEARCH && floor {
+        if self.callbacks.floored || (reason == sys::SNES_DIVERGED_LINE_SEARCH && floor) {
             return Ok(NewtonReport {
                 iterations: its as usize,
                 residual_history: history,
