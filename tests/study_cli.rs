@@ -330,3 +330,58 @@ fn a_bad_plan_is_refused_naming_the_key() {
         assert!(!dir.join("out").exists(), "{key}: something was written");
     }
 }
+
+/// examples/disc-and-pad-study.toml, a study of a mesh file (the tiny brake written out as
+/// Gmsh, with materials, supports and contacts named by its physical groups), runs as its
+/// header says and its full model is the built-in tiny brake's: the same eigenvalues.
+#[test]
+fn the_mesh_file_example_runs_and_its_model_is_the_built_in_one() {
+    let dir = scratch("study", "mesh-file");
+    let example = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/disc-and-pad-study.toml");
+    let file = dir.join("disc-and-pad-study.toml");
+    std::fs::copy(&example, &file).unwrap();
+    let mesh = dir.join("tiny-brake.msh");
+    let written = std::process::Command::new(squeal())
+        .args(["mesh", "--preset", "tiny", "-o", mesh.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(written.status.success(), "{}", common::text(&written));
+    let out = dir.join("out");
+    let stdout = success(&[
+        "study",
+        file.to_str().unwrap(),
+        "--friction",
+        "0.7",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(running(&stdout).len(), 5, "{stdout}");
+    assert!(out.join("report.html").is_file());
+    let builtin = dir.join("builtin");
+    success(&[
+        "sweep",
+        "--preset",
+        "tiny",
+        "--friction",
+        "0.7",
+        "--fmax",
+        "4000",
+        "-o",
+        builtin.to_str().unwrap(),
+    ]);
+    let modes = |path: &Path| -> Vec<(f64, f64, bool)> {
+        common::eigenvalues_of(&json(&path.join("sweep.json"))["points"][0])
+    };
+    let (from_file, from_preset) = (modes(&out.join("full")), modes(&builtin));
+    assert_eq!(from_file.len(), from_preset.len());
+    assert!(from_file.iter().any(|m| m.2), "no unstable mode at mu 0.7");
+    for (a, b) in from_file.iter().zip(&from_preset) {
+        assert!((a.0 - b.0).abs() <= 1e-8 * b.0, "{a:?} against {b:?}");
+        // Real parts against |lambda| = 2 pi f: the eigenvalue's own scale.
+        assert!(
+            (a.1 - b.1).abs() <= 1e-8 * 2.0 * std::f64::consts::PI * b.0,
+            "{a:?} against {b:?}"
+        );
+        assert_eq!(a.2, b.2);
+    }
+}

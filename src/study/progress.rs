@@ -10,6 +10,14 @@ use std::sync::Mutex;
 /// The bar being drawn, if any: the log writer needs it to print above it.
 static CURRENT: Mutex<Option<ProgressBar>> = Mutex::new(None);
 
+/// The current step's own message ("mu 0.300"), which the latest log line then follows on
+/// the bar: inside one friction value the solvers' steps (Newton increments, CEA shifts, a
+/// super-element's constraint and interior modes) show where the point is.
+static STEP: Mutex<String> = Mutex::new(String::new());
+
+/// How much of a log line the bar shows after the step's message.
+const DETAIL_CHARS: usize = 60;
+
 /// A bar over `total` steps of one stage; hidden on ranks other than 0, when stdout is not a
 /// terminal, and in quiet runs (indicatif hides a bar whose target is not a terminal).
 pub struct Progress {
@@ -39,7 +47,11 @@ impl Progress {
 
     /// What the current step is doing, e.g. "mu 0.300".
     pub fn message(&self, text: impl Into<String>) {
-        self.bar.set_message(text.into());
+        let text = text.into();
+        if let Ok(mut s) = STEP.lock() {
+            s.clone_from(&text);
+        }
+        self.bar.set_message(text);
     }
 
     /// One step done.
@@ -81,12 +93,16 @@ impl Write for LogWriter {
         match bar {
             // Drawn, the bar is on a terminal stdout: the line goes there too, above it, so
             // that mpirun (which forwards a rank's stdout and stderr apart) cannot reorder them.
-            Some(bar) if !bar.is_hidden() => bar.suspend(|| {
-                let mut out = std::io::stdout();
-                out.write_all(buf)?;
-                out.flush()?;
-                Ok(buf.len())
-            }),
+            Some(bar) if !bar.is_hidden() => {
+                let step = STEP.lock().map(|s| s.clone()).unwrap_or_default();
+                bar.set_message(format!("{step}: {}", detail(buf)));
+                bar.suspend(|| {
+                    let mut out = std::io::stdout();
+                    out.write_all(buf)?;
+                    out.flush()?;
+                    Ok(buf.len())
+                })
+            }
             _ => std::io::stderr().write(buf),
         }
     }
@@ -96,9 +112,67 @@ impl Write for LogWriter {
     }
 }
 
+/// A log line as the bar shows it: without its level, on one line, cut at a character
+/// boundary.
+fn detail(line: &[u8]) -> String {
+    let text = without_colours(&String::from_utf8_lossy(line));
+    let text = text.trim();
+    let text = ["INFO ", "WARN ", "DEBUG "]
+        .iter()
+        .find_map(|level| text.strip_prefix(level))
+        .unwrap_or(text)
+        .trim();
+    let first = text.lines().next().unwrap_or_default();
+    match first.char_indices().nth(DETAIL_CHARS) {
+        Some((at, _)) => format!("{}...", &first[..at]),
+        None => first.to_string(),
+    }
+}
+
+/// `text` without its ANSI colour sequences (ESC [ ... letter): a log line coloured for a
+/// terminal.
+fn without_colours(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    let mut chars = text.chars();
+    while let Some(c) = chars.next() {
+        if c == '\u{1b}' {
+            for d in chars.by_ref() {
+                if d.is_ascii_alphabetic() {
+                    break;
+                }
+            }
+        } else {
+            out.push(c);
+        }
+    }
+    out
+}
+
 impl<'a> tracing_subscriber::fmt::MakeWriter<'a> for LogWriter {
     type Writer = LogWriter;
     fn make_writer(&'a self) -> LogWriter {
         LogWriter
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_log_line_on_the_bar_loses_its_level_and_is_cut_short() {
+        assert_eq!(
+            detail(b" INFO CEA shift 1 at 7746 Hz: 96 pairs\n"),
+            "CEA shift 1 at 7746 Hz: 96 pairs"
+        );
+        assert_eq!(
+            detail(b"\x1b[32m INFO\x1b[0m mu 0.30 (1/9): static\n"),
+            "mu 0.30 (1/9): static"
+        );
+        let long = format!(" WARN {}\n", "\u{e9}".repeat(100));
+        assert_eq!(
+            detail(long.as_bytes()),
+            format!("{}...", "\u{e9}".repeat(60))
+        );
     }
 }

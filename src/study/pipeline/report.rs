@@ -209,7 +209,9 @@ impl Report {
             // The onset between the samples: the coalescence of the pair's eigenvalues where
             // bracketed, else the real part's zero crossing.
             let onset = match (i["onset_bracketed"].as_bool(), f(&i["coalescence_mu"])) {
-                (Some(false), _) => "before the first value".to_string(),
+                // Its track begins unstable: at the sweep's first value, or where tracking
+                // first found this mode (it entered the band, or a close mode took its place).
+                (Some(false), _) => format!("at or before {first_mu} (its track begins unstable)"),
                 (_, Some(c)) => format!("{c:.3} (coalescence)"),
                 _ => format!("{:.3}", f(&i["onset_mu"]).unwrap_or(0.0)),
             };
