@@ -16,6 +16,7 @@
 //! ([`crate::study::sweep::point_cache`]), so a sweep stopped part-way resumes after its last
 //! finished point, and a sweep rerun with more friction values computes only the new ones.
 
+mod inputs;
 mod record;
 pub mod report;
 pub mod stage;
@@ -110,12 +111,8 @@ pub fn run_command(
     let mesh_hash = match &study.mesh.file {
         Some(path) => collective(
             comm,
-            crate::input_file::read(path)
-                .map(|bytes| crate::mesh::hash::bytes_hash(&bytes))
-                .map_err(|source| StudyError::Read {
-                    path: path.clone(),
-                    source,
-                }),
+            inputs::mesh_files_hash(path)
+                .map_err(|(path, source)| StudyError::Read { path, source }),
         )?,
         None => String::new(),
     };

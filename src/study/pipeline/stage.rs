@@ -4,9 +4,9 @@
 //! super-elements against the reduced interface they were built on, Tables 6-7).
 //!
 //! Each stage has a key: a hash of everything its result depends on (squeal's version, the
-//! study it sweeps as TOML with the output folder left out, the mesh file's bytes; for a
-//! comparison, its inputs' keys). A stage whose key matches the one recorded beside its
-//! folder is not run again.
+//! study it sweeps as TOML with the output folder left out, the bytes of the mesh file and of
+//! the files it includes; for a comparison, its inputs' keys). A stage whose key matches the
+//! one recorded beside its folder is not run again.
 
 use crate::mesh::hash::text_hash;
 use crate::study::config::{ReductionSpec, Study};
@@ -67,8 +67,9 @@ fn reduced_interface(base: Option<&ReductionSpec>, nodes: usize) -> ReductionSpe
     r
 }
 
-/// The stages of `study`, keyed. `mesh_hash`: a hash of the mesh file's bytes when the study
-/// reads one ("" for the built-in brake, whose parameters are in the study itself).
+/// The stages of `study`, keyed. `mesh_hash`: a hash of the mesh file's bytes (and of the
+/// files it includes) when the study reads one ("" for the built-in brake, whose parameters
+/// are in the study itself).
 pub fn plan(study: &Study, mesh_hash: &str) -> Vec<Stage> {
     let comparison = study.comparison.clone().unwrap_or_default();
     let derived = |name: &str, reduction: Option<ReductionSpec>| {
