@@ -56,13 +56,6 @@ impl Default for StaticOptions {
                 // Below 1e-8 of the initial residual the balance is exact to the sweep's
                 // own check (1e-8), so that is accepted as converged, and said so.
                 roundoff_floor: 1e-8,
-                // The l2 line search (a secant on |F|^2 along the step) takes longer steps
-                // than backtracking while contact points change state: 105 Newton iterations
-                // against 132 on the tiny-caliper sweep (full model, 9 values), 115 against 118
-                // on its reduced interface, 67 against 83 on small-caliper (5 values), with
-                // the same eigenvalues. It reports no failure at the
-                // round-off floor, which the stagnation test above handles instead.
-                line_search: "l2".into(),
                 ..NewtonOptions::default()
             },
         }
