@@ -78,6 +78,9 @@ impl Reader {
         if !matches!(kw.name.as_str(), "ELASTIC" | "DENSITY") && self.is_known(&kw.name) {
             self.material = None;
         }
+        if !matches!(kw.name.as_str(), "SURFACEBEHAVIOR" | "FRICTION") && self.is_known(&kw.name) {
+            self.interaction = None;
+        }
         let input = if self.is_known(&kw.name) {
             self.param(&mut kw, "INPUT")?
         } else {
@@ -128,6 +131,10 @@ impl Reader {
                 // The optional data line (thickness) means nothing for solids.
                 Block::Skip
             }
+            "SURFACEINTERACTION" => self.surface_interaction_keyword(&mut kw)?,
+            "SURFACEBEHAVIOR" => self.surface_behavior_keyword(&mut kw)?,
+            "FRICTION" => self.friction_keyword(&mut kw)?,
+            "CONTACTPAIR" => self.contact_pair_keyword(&mut kw)?,
             "STEP" => self.step_keyword(&mut kw)?,
             "ENDSTEP" => {
                 let Some(step) = self.step.take() else {
@@ -242,6 +249,10 @@ impl Reader {
                 | "ELASTIC"
                 | "DENSITY"
                 | "SOLIDSECTION"
+                | "SURFACEINTERACTION"
+                | "SURFACEBEHAVIOR"
+                | "FRICTION"
+                | "CONTACTPAIR"
                 | "STEP"
                 | "ENDSTEP"
                 | "STATIC"
@@ -260,7 +271,7 @@ impl Reader {
         }
     }
 
-    fn model_only(&self, kw: &Keyword) -> Result<(), MeshError> {
+    pub(super) fn model_only(&self, kw: &Keyword) -> Result<(), MeshError> {
         match &self.step {
             Some(step) => Err(self.err(
                 kw.loc,
@@ -645,14 +656,14 @@ mod tests {
     #[test]
     fn unknown_keywords_are_skipped_and_listed_in_one_warning() {
         let text = format!(
-            "{}*CONTACT PAIR, INTERACTION=FRIC\nPAD, DISC\n*STEP\n*STATIC\n*OUTPUT, FIELD\n\
+            "{}*TIE, NAME=GLUE\nPAD, DISC\n*STEP\n*STATIC\n*OUTPUT, FIELD\n\
              *NODE OUTPUT\nU\n*OUTPUT, HISTORY\n*END STEP\n",
             one_tet()
         );
         let deck = read_text("unknown", &text).unwrap();
         assert_eq!(deck.warnings.len(), 1, "{:?}", deck.warnings);
         let w = &deck.warnings[0];
-        assert!(w.contains("*CONTACT PAIR (1x, first at "), "{w}");
+        assert!(w.contains("*TIE (1x, first at "), "{w}");
         assert!(w.contains("*OUTPUT (2x, first at "), "{w}");
         assert!(w.contains("*NODE OUTPUT (1x"), "{w}");
         assert!(w.contains("deck.inp:"), "{w}");
