@@ -45,7 +45,8 @@ pub fn builtin(preset: &str) -> Result<Model, ModelError> {
 }
 
 /// Reads a mesh file: `.msh` (Gmsh, no supports or materials of its own) or `.inp`
-/// (Abaqus/CalculiX: materials, sections, the first `*FREQUENCY` step's supports and loads).
+/// (Abaqus/CalculiX: materials, sections, the first `*FREQUENCY` step's supports and loads,
+/// the contact pairs: [`super::deck_contact`]).
 pub fn read(path: &Path) -> Result<Model, ModelError> {
     let model = read_format(path)?;
     check_elements(path, &model.mesh)?;
@@ -156,8 +157,21 @@ fn from_deck(path: &Path, deck: abaqus::Deck) -> Result<Model, ModelError> {
             value: *p,
         })
         .collect();
+    let (pairs, deck_interactions) = super::deck_contact::pairs(&deck)?;
+    let pair_surfaces = deck
+        .contact_pairs
+        .iter()
+        .map(|p| match &p.slave {
+            abaqus::SlaveSurface::Faces(slave) => Some((slave.clone(), p.master.clone())),
+            abaqus::SlaveSurface::Nodes { .. } => None,
+        })
+        .collect();
     Ok(Model {
         source: path.display().to_string(),
+        swept: vec![false; pairs.len()],
+        pairs,
+        pair_surfaces,
+        deck_interactions,
         supports,
         pressures,
         forces: loading
