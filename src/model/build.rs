@@ -50,7 +50,17 @@ impl Model {
                         deck_pair_list(&m),
                     ));
                 }
-                m.frequency_step = None;
+                // A study's band replaces the deck's *FREQUENCY request: say so.
+                if let Some((count, upper)) = m.frequency_step.take() {
+                    m.warnings.push(format!(
+                        "{}: the deck's *FREQUENCY request ({} modes, upper frequency {}) is \
+                         not used: the study's analysis.max_frequency_hz (squeal sweep: --fmax) \
+                         sets the band",
+                        m.source,
+                        count.map_or("all".to_string(), |n| n.to_string()),
+                        upper.map_or("none".to_string(), |f| format!("{f} Hz")),
+                    ));
+                }
                 deck_sliding(&mut m, spec)?;
                 m
             }
