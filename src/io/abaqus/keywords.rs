@@ -58,6 +58,14 @@ pub(super) fn refused(name: &str) -> Option<&'static str> {
             "*TRANSFORM (local DOF directions) is not supported; give supports and loads in \
              global directions"
         }
+        "CONTACT" | "CONTACTINCLUSIONS" | "CONTACTPROPERTYASSIGNMENT" => {
+            "Abaqus general contact is not supported (skipping it would lose every contact): \
+             give the interfaces as *CONTACT PAIR, TYPE=NODE TO SURFACE"
+        }
+        "CLEARANCE" | "CONTACTINTERFERENCE" => {
+            "initial clearances and interferences of contact pairs are not supported (they \
+             would change the gaps): move the nodes, or use ADJUST= on *CONTACT PAIR"
+        }
         "NGEN" | "NFILL" | "NCOPY" | "NMAP" | "ELGEN" | "ELCOPY" => {
             "node and element generation is not supported; list the nodes and elements"
         }
@@ -667,6 +675,33 @@ mod tests {
         assert!(w.contains("*OUTPUT (2x, first at "), "{w}");
         assert!(w.contains("*NODE OUTPUT (1x"), "{w}");
         assert!(w.contains("deck.inp:"), "{w}");
+    }
+
+    #[test]
+    fn general_contact_and_clearances_are_refused_by_name() {
+        for (keyword, said) in [
+            (
+                "*CONTACT
+*CONTACT INCLUSIONS, ALL EXTERIOR
+",
+                "general contact",
+            ),
+            (
+                "*CONTACT INCLUSIONS, ALL EXTERIOR
+",
+                "general contact",
+            ),
+            (
+                "*CLEARANCE, MASTER=A, SLAVE=B, VALUE=1e-5
+",
+                "clearances",
+            ),
+        ] {
+            let text = format!("{}{keyword}", one_tet());
+            let (_, line, message) = parse_error(read_text("err-general-contact", &text));
+            assert_eq!(line, one_tet().lines().count() + 1, "{message}");
+            assert!(message.contains(said), "{message}");
+        }
     }
 
     #[test]

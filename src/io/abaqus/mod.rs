@@ -23,7 +23,8 @@
 //! `*NODE FILE`, `*TIE`, ...) are skipped with their data lines and listed, with
 //! counts and the first place each appeared, in ONE warning. Keywords that would silently change
 //! geometry or load directions if skipped (`*PART`/`*INSTANCE`, `*SYSTEM`, `*TRANSFORM`, node and
-//! element generation) are refused with an error instead.
+//! element generation, Abaqus general contact, contact clearances) are refused with an error
+//! instead.
 //!
 //! # Conventions decided here
 //!
