@@ -210,12 +210,26 @@ fn a_study_on_the_deck_uses_its_pair_and_a_contacts_table_of_its_name_replaces_i
 }
 
 /// `squeal sweep deck.inp` without a sliding direction says what to give; a wrong
-/// `--interaction` names the deck's interactions.
+/// `--interaction` names the deck's interactions; a missing deck is said before its flags.
 #[test]
 fn a_deck_sweep_without_a_sliding_direction_or_with_a_wrong_interaction_is_refused() {
     let dir = scratch("deck-contact", "refused");
     let deck = data("pad_on_plate.inp");
     let out = dir.join("out");
+    // A missing deck is said first, once.
+    let missing = dir.join("missing.inp");
+    let stderr = run_err(&[
+        "sweep",
+        missing.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(
+        stderr.matches("No such file or directory").count(),
+        1,
+        "{stderr}"
+    );
+    assert!(!stderr.contains("--disc-axis"), "{stderr}");
     let stderr = run_err(&[
         "sweep",
         deck.to_str().unwrap(),

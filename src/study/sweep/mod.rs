@@ -206,6 +206,14 @@ pub fn study_from_args(
     let (mut study, name) = match file {
         // A deck is its own study: its mesh, supports, loads and contact pairs.
         Some(path) if super::config::is_deck(path) => {
+            // A missing deck is said before any flag it would need.
+            let found = std::fs::metadata(path).map(|_| ()).map_err(|source| {
+                super::config::ConfigError::Io {
+                    file: path.to_path_buf(),
+                    source,
+                }
+            });
+            collective(comm, found)?;
             (Study::of_deck(path), path.display().to_string())
         }
         Some(path) => (
