@@ -151,6 +151,23 @@ enum Command {
         study: StudyFlags,
         #[command(flatten)]
         interface: InterfaceFlags,
+        /// A deck (.inp): the *SURFACE INTERACTION whose contact pairs the disc slides under
+        /// and whose mu is swept (study key mesh.interaction; default: the deck's only one).
+        #[arg(long)]
+        interaction: Option<String>,
+        /// A deck: the disc's rotation axis, X0,Y0,Z0,AX,AY,AZ (a point and a direction; the
+        /// disc turns positively about it): the sliding direction of --interaction's pairs
+        /// (study key mesh.sliding).
+        #[arg(
+            long,
+            value_delimiter = ',',
+            allow_hyphen_values = true,
+            conflicts_with = "sliding_direction"
+        )]
+        disc_axis: Option<Vec<f64>>,
+        /// A deck: a fixed sliding direction X,Y,Z for --interaction's pairs instead.
+        #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+        sliding_direction: Option<Vec<f64>>,
         /// Sweep Craig-Bampton super-elements of the reduced-interface model, assembled with
         /// node-to-node cubic contact: one made at --superelement-friction (single), one per
         /// friction value (per-friction), or one rebuilt only when a kept contact changes
@@ -395,6 +412,40 @@ fn reduction_flags(
     Ok(Some(spec))
 }
 
+/// `--disc-axis` or `--sliding-direction` as a sliding direction. Every rank has the same
+/// flags: a refusal is collective.
+fn sliding_flags(
+    disc_axis: Option<Vec<f64>>,
+    direction: Option<Vec<f64>>,
+) -> anyhow::Result<Option<squeal::contact::SlidingDirection>> {
+    use squeal::contact::SlidingDirection;
+    let bad =
+        |flag: &'static str, why: String| study::StudyError::BadFlag { flag, why }.collective();
+    match (disc_axis, direction) {
+        (Some(v), _) => match v[..] {
+            [x, y, z, ax, ay, az] => Ok(Some(SlidingDirection::DiscRotation {
+                centre: [x, y, z],
+                axis: [ax, ay, az],
+                sense: 1.0,
+            })),
+            _ => Err(bad(
+                "--disc-axis",
+                format!("expected 6 numbers X0,Y0,Z0,AX,AY,AZ, got {}", v.len()),
+            )
+            .into()),
+        },
+        (None, Some(v)) => match v[..] {
+            [x, y, z] => Ok(Some(SlidingDirection::Fixed([x, y, z]))),
+            _ => Err(bad(
+                "--sliding-direction",
+                format!("expected 3 numbers X,Y,Z, got {}", v.len()),
+            )
+            .into()),
+        },
+        (None, None) => Ok(None),
+    }
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     // Pure computation: no runtime to start (and none needed to print).
@@ -525,6 +576,9 @@ fn main() -> ExitCode {
         Command::Sweep {
             study: flags,
             interface,
+            interaction,
+            disc_axis,
+            sliding_direction,
             superelements,
             superelement_friction,
             cutoff,
@@ -533,6 +587,8 @@ fn main() -> ExitCode {
         } => reduction_flags(&interface).and_then(|reduction| {
             let (mut args, file, write_study) = flags.split();
             args.reduction = reduction;
+            args.interaction = interaction;
+            args.sliding = sliding_flags(disc_axis, sliding_direction)?;
             args.superelements = study::sweep::SuperElementArgs {
                 strategy: superelements.map(|s| match s {
                     StrategyArg::Single => squeal::reduce::Strategy::Single,

@@ -23,8 +23,8 @@ pub mod project;
 
 pub use coulomb::{SlipHistory, Status};
 pub use pair::{
-    node_to_node, node_to_surface, tributary_areas, ContactPair, ContactPoint, FrictionLaw,
-    MasterFace, PairSettings, SlidingDirection,
+    node_to_node, node_to_surface, nodes_to_surface, tributary_areas, ContactPair, ContactPoint,
+    FrictionLaw, MasterFace, PairSettings, SlidingDirection,
 };
 pub use penalty::{
     evaluate, point_state, summarize, summarize_states, PairSummary, PointContribution, PointState,

@@ -248,6 +248,21 @@ impl ContactPair {
         }
     }
 
+    /// Makes the pair slide steadily along `sliding` (the disc turning under it): the law
+    /// becomes steady sliding and each point's tangent is recomputed at its reference
+    /// position, as [`node_to_surface`] would have made it.
+    pub fn set_sliding(&mut self, sliding: SlidingDirection) -> Result<(), ContactError> {
+        let mut settings = self.settings.clone();
+        settings.sliding = sliding;
+        settings.law = FrictionLaw::SteadySliding;
+        settings.check()?;
+        for point in &mut self.points {
+            point.tangent = settings.sliding.tangent(point.position, point.normal);
+        }
+        self.settings = settings;
+        Ok(())
+    }
+
     /// The same pair without friction: only its normal law acts (what holds a body when
     /// nothing can be asked of friction).
     pub fn frictionless(&self) -> ContactPair {
@@ -451,13 +466,53 @@ pub fn node_to_surface(
     settings: PairSettings,
     options: &SearchOptions,
 ) -> Result<ContactPair, ContactError> {
+    check_surface(mesh, slave, "slave").map_err(|what| ContactError::Invalid {
+        pair: settings.name.clone(),
+        what,
+    })?;
+    let slaves = tributary_areas(mesh, slave);
+    project_slave_nodes(mesh, slaves, Some(slave), master, settings, options)
+}
+
+/// A node-to-surface pair whose slave side is a list of nodes, each with the area it stands
+/// for (an Abaqus node-based surface): the same as [`node_to_surface`] otherwise; the
+/// default penalty takes `E_min` from the master faces alone.
+pub fn nodes_to_surface(
+    mesh: &Mesh,
+    slave_nodes: &[(usize, f64)],
+    master: &Surface,
+    settings: PairSettings,
+    options: &SearchOptions,
+) -> Result<ContactPair, ContactError> {
+    let invalid = |what: String| ContactError::Invalid {
+        pair: settings.name.clone(),
+        what,
+    };
+    if slave_nodes.is_empty() {
+        return Err(invalid("the slave node set is empty".into()));
+    }
+    if let Some(&(n, _)) = slave_nodes.iter().find(|(n, _)| *n >= mesh.nodes.len()) {
+        return Err(invalid(format!("slave node index {n} is outside the mesh")));
+    }
+    project_slave_nodes(mesh, slave_nodes.to_vec(), None, master, settings, options)
+}
+
+/// Projects each slave node (with its area) on `master`: the body of [`node_to_surface`]
+/// and [`nodes_to_surface`]; `slave_faces` is the slave surface when there is one.
+fn project_slave_nodes(
+    mesh: &Mesh,
+    slaves: Vec<(usize, f64)>,
+    slave_faces: Option<&Surface>,
+    master: &Surface,
+    settings: PairSettings,
+    options: &SearchOptions,
+) -> Result<ContactPair, ContactError> {
     settings.check()?;
     let invalid = |what: String| ContactError::Invalid {
         pair: settings.name.clone(),
         what,
     };
     options.check().map_err(invalid)?;
-    check_surface(mesh, slave, "slave").map_err(invalid)?;
     check_surface(mesh, master, "master").map_err(invalid)?;
 
     let faces: Vec<[[f64; 3]; 6]> = master
@@ -475,7 +530,7 @@ pub fn node_to_surface(
             master.name
         ))
     })?;
-    if slave.faces == master.faces {
+    if let Some(slave) = slave_faces.filter(|s| s.faces == master.faces) {
         return Err(invalid(format!(
             "the slave surface '{}' and the master surface '{}' are the same faces: a pair is \
              two surfaces facing each other",
@@ -483,7 +538,11 @@ pub fn node_to_surface(
         )));
     }
     let h = search.mean_face_size();
-    let young = smallest_young(mesh, &[(slave, "slave"), (master, "master")]);
+    let mut owners = vec![(master, "master")];
+    if let Some(slave) = slave_faces {
+        owners.insert(0, (slave, "slave"));
+    }
+    let young = smallest_young(mesh, &owners);
     let penalty = match settings.penalty {
         Some(k) => k,
         None => 10.0 * young.clone().map_err(invalid)? / h,
@@ -506,7 +565,7 @@ pub fn node_to_surface(
     let max_distance = options.max_distance.unwrap_or(h);
     let mut points = Vec::new();
     let mut unprojected = Vec::new();
-    for (node, area) in tributary_areas(mesh, slave) {
+    for (node, area) in slaves {
         let x = mesh.nodes[node];
         let Some(hit) = search.nearest(x, tolerance, max_distance) else {
             unprojected.push(node);
@@ -616,6 +675,53 @@ mod tests {
             let t = p.tangent.unwrap();
             assert!(norm(sub(t, expect)) < 1e-15, "{t:?} vs {expect:?}");
         }
+    }
+
+    /// A node-based slave: the given nodes and areas, the same points as the face-based
+    /// pair otherwise; `set_sliding` then gives the tangents `node_to_surface` would have.
+    #[test]
+    fn a_node_list_slave_keeps_its_areas_and_set_sliding_recomputes_the_tangents() {
+        let mesh = pad_on_disc(0.0);
+        let faces = node_to_surface(
+            &mesh,
+            &mesh.surfaces["pad.z0"],
+            &mesh.surfaces["z1"],
+            settings(rotation()),
+            &SearchOptions::default(),
+        )
+        .unwrap();
+        let nodes: Vec<(usize, f64)> = faces.points.iter().map(|p| (p.slave_node, 2.0)).collect();
+        let mut listed = nodes_to_surface(
+            &mesh,
+            &nodes,
+            &mesh.surfaces["z1"],
+            settings(SlidingDirection::None),
+            &SearchOptions::default(),
+        )
+        .unwrap();
+        assert_eq!(listed.points.len(), faces.points.len());
+        // The default penalty's E_min comes from the master alone: the disc's 210e9, not
+        // the pad's 1e9.
+        assert!((listed.penalty / faces.penalty - 210.0).abs() < 1e-9);
+        for (a, b) in listed.points.iter().zip(&faces.points) {
+            assert_eq!(a.area, 2.0);
+            assert_eq!((a.master.clone(), a.normal), (b.master.clone(), b.normal));
+            assert_eq!(a.tangent, None);
+        }
+        listed.set_sliding(rotation()).unwrap();
+        for (a, b) in listed.points.iter().zip(&faces.points) {
+            assert_eq!(a.tangent, b.tangent);
+        }
+        let e = nodes_to_surface(
+            &mesh,
+            &[],
+            &mesh.surfaces["z1"],
+            settings(SlidingDirection::None),
+            &SearchOptions::default(),
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(e.contains("slave node set is empty"), "{e}");
     }
 
     #[test]

@@ -35,18 +35,33 @@ impl Model {
         let mut model = match &spec.mesh.file {
             Some(path) => {
                 let mut m = source::read(path)?;
-                let from_deck = m.supports.len() + m.pressures.len() + m.forces.len();
+                let from_deck =
+                    m.supports.len() + m.pressures.len() + m.forces.len() + m.pairs.len();
                 if from_deck > 0 {
                     m.warnings.push(format!(
-                        "{}: kept the deck's {} supports, {} loaded faces and {} nodal forces \
-                         (the study's tables add to them)",
+                        "{}: kept the deck's {} supports, {} loaded faces, {} nodal forces and \
+                         {} contact pairs{} (the study's tables add to them; a [[contacts]] \
+                         table of a pair's name replaces it)",
                         m.source,
                         m.supports.len(),
                         m.pressures.len(),
-                        m.forces.len()
+                        m.forces.len(),
+                        m.pairs.len(),
+                        deck_pair_list(&m),
                     ));
                 }
-                m.frequency_step = None;
+                // A study's band replaces the deck's *FREQUENCY request: say so.
+                if let Some((count, upper)) = m.frequency_step.take() {
+                    m.warnings.push(format!(
+                        "{}: the deck's *FREQUENCY request ({} modes, upper frequency {}) is \
+                         not used: the study's analysis.max_frequency_hz (squeal sweep: --fmax) \
+                         sets the band",
+                        m.source,
+                        count.map_or("all".to_string(), |n| n.to_string()),
+                        upper.map_or("none".to_string(), |f| format!("{f} Hz")),
+                    ));
+                }
+                deck_sliding(&mut m, spec)?;
                 m
             }
             None => {
@@ -72,6 +87,16 @@ impl Model {
                 }
             }
         };
+        if spec.mesh.file.is_none()
+            && (spec.mesh.interaction.is_some() || spec.mesh.sliding.is_some())
+        {
+            return Err(ModelError::Invalid {
+                key: "mesh.interaction".into(),
+                why: "mesh.interaction and mesh.sliding choose among a deck's contact pairs: \
+                      give a deck as mesh.file, or use [[contacts]]"
+                    .into(),
+            });
+        }
         add_materials(&mut model, spec)?;
         let source_name = model.source.clone();
         let missing = |key: String, name: &str, what: &'static str| ModelError::Missing {
@@ -148,13 +173,61 @@ impl Model {
                         name: c.name.clone(),
                         source: Box::new(source),
                     })?;
-            model.pairs.push(pair);
-            model.swept.push(c.sweep);
-            model
-                .pair_surfaces
-                .push(Some((slave.name.clone(), master.name.clone())));
+            let surfaces = Some((slave.name.clone(), master.name.clone()));
+            // A table of a deck pair's name replaces that pair where it stands.
+            let replaced = model
+                .pairs
+                .iter()
+                .position(|p| p.settings.name.eq_ignore_ascii_case(&c.name));
+            match replaced {
+                Some(k) => {
+                    model.warnings.push(format!(
+                        "contacts[{i}] '{}' replaces the deck's contact pair {}",
+                        c.name, model.pairs[k].settings.name
+                    ));
+                    model.pairs[k] = pair;
+                    model.swept[k] = c.sweep;
+                    model.pair_surfaces[k] = surfaces;
+                }
+                None => {
+                    model.pairs.push(pair);
+                    model.swept.push(c.sweep);
+                    model.pair_surfaces.push(surfaces);
+                }
+            }
         }
         Ok(model)
+    }
+}
+
+/// " (NAME: interaction I, ...)" for the deck's pairs, or nothing.
+fn deck_pair_list(model: &Model) -> String {
+    if model.deck_interactions.is_empty() {
+        return String::new();
+    }
+    let list: Vec<String> = model
+        .deck_interactions
+        .iter()
+        .map(|(pair, interaction)| format!("{pair}: interaction {interaction}"))
+        .collect();
+    format!(" ({})", list.join(", "))
+}
+
+/// `mesh.sliding` (and `mesh.interaction`): the deck pairs the disc slides under.
+fn deck_sliding(model: &mut Model, spec: &ModelSpec) -> Result<(), ModelError> {
+    match (&spec.mesh.sliding, &spec.mesh.interaction) {
+        (Some(sliding), interaction) => {
+            super::deck_contact::slide(model, interaction.as_deref(), sliding, "mesh.sliding")
+        }
+        (None, Some(name)) => Err(ModelError::Invalid {
+            key: "mesh.interaction".into(),
+            why: format!(
+                "the pairs of interaction '{name}' need a sliding direction, and a deck gives \
+                 none (*MOTION is not read): give mesh.sliding (squeal sweep: --disc-axis or \
+                 --sliding-direction)"
+            ),
+        }),
+        (None, None) => Ok(()),
     }
 }
 

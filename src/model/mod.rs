@@ -7,6 +7,7 @@
 
 pub mod assemble;
 mod build;
+pub mod deck_contact;
 mod error;
 pub mod source;
 pub mod spec;
@@ -52,6 +53,9 @@ pub struct Model {
     /// The (slave, master) surface names of each node-to-surface pair (one per pair; `None`
     /// for node-to-node pairs): where the reduction layer lays its grids.
     pub pair_surfaces: Vec<Option<(String, String)>>,
+    /// The pairs read from a deck's `*CONTACT PAIR`s: pair name -> its `*SURFACE
+    /// INTERACTION` (upper-case names).
+    pub deck_interactions: std::collections::BTreeMap<String, String>,
     /// From an Abaqus `*FREQUENCY` step: (number of modes, upper frequency).
     pub frequency_step: Option<(Option<usize>, Option<f64>)>,
     /// What a reader or builder noticed and did not refuse.

@@ -45,7 +45,8 @@ pub fn builtin(preset: &str) -> Result<Model, ModelError> {
 }
 
 /// Reads a mesh file: `.msh` (Gmsh, no supports or materials of its own) or `.inp`
-/// (Abaqus/CalculiX: materials, sections, the first `*FREQUENCY` step's supports and loads).
+/// (Abaqus/CalculiX: materials, sections, the first `*FREQUENCY` step's supports and loads,
+/// the contact pairs: [`super::deck_contact`]).
 pub fn read(path: &Path) -> Result<Model, ModelError> {
     let model = read_format(path)?;
     check_elements(path, &model.mesh)?;
@@ -105,12 +106,14 @@ fn read_format(path: &Path) -> Result<Model, ModelError> {
 }
 
 fn from_deck(path: &Path, deck: abaqus::Deck) -> Result<Model, ModelError> {
-    // The analysis the deck asks for: its first *FREQUENCY step, else the model data.
+    // The analysis the deck asks for: its first *FREQUENCY step (with what earlier steps
+    // left in force), else its last step (a deck of a *STATIC step alone: its loads, which
+    // were once dropped and left "applied load 0"), else the model data.
     let step = deck
         .steps
         .iter()
         .position(|s| matches!(s.procedure, abaqus::Procedure::Frequency(_)));
-    let loading = match step {
+    let loading = match step.or(deck.steps.len().checked_sub(1)) {
         Some(k) => deck.loading_in_step(k).unwrap_or_default(),
         None => deck.model_loading(),
     };
@@ -156,8 +159,21 @@ fn from_deck(path: &Path, deck: abaqus::Deck) -> Result<Model, ModelError> {
             value: *p,
         })
         .collect();
+    let (pairs, deck_interactions) = super::deck_contact::pairs(&deck)?;
+    let pair_surfaces = deck
+        .contact_pairs
+        .iter()
+        .map(|p| match &p.slave {
+            abaqus::SlaveSurface::Faces(slave) => Some((slave.clone(), p.master.clone())),
+            abaqus::SlaveSurface::Nodes { .. } => None,
+        })
+        .collect();
     Ok(Model {
         source: path.display().to_string(),
+        swept: vec![false; pairs.len()],
+        pairs,
+        pair_surfaces,
+        deck_interactions,
         supports,
         pressures,
         forces: loading
@@ -310,6 +326,29 @@ mod tests {
         mesh.elements.clear();
         let e = check_elements(file, &mesh).unwrap_err().to_string();
         assert!(e.starts_with("deck.inp: the mesh has no elements"), "{e}");
+    }
+
+    /// A deck of a *STATIC step alone keeps that step's supports and pressure (they were
+    /// once dropped for the model data's, and the sweep said "applied load 0").
+    #[test]
+    fn a_static_only_deck_keeps_its_step_loads() {
+        let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
+        let dir = std::env::temp_dir().join(format!("squeal-static-deck-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::copy(
+            data.join("pad_on_plate_mesh.inp"),
+            dir.join("pad_on_plate_mesh.inp"),
+        )
+        .unwrap();
+        let text = std::fs::read_to_string(data.join("pad_on_plate.inp")).unwrap();
+        let cut = text.find("*STEP, PERTURBATION").unwrap();
+        std::fs::write(dir.join("deck.inp"), &text[..cut]).unwrap();
+        let model = read(&dir.join("deck.inp")).unwrap();
+        assert_eq!(model.pressures.len(), 18, "the pad top's 18 faces");
+        assert!((model.applied_load() - 676.0).abs() < 1e-9 * 676.0);
+        assert_eq!(model.frequency_step, None);
+        let _ = std::fs::remove_dir_all(dir);
     }
 
     #[test]

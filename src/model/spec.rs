@@ -29,6 +29,15 @@ pub struct MeshSpec {
     pub preset: Option<String>,
     /// Built-in brake parameters (replace the preset's).
     pub brake: Option<BrakeParams>,
+    /// A deck `file`: the `*SURFACE INTERACTION` whose pairs the disc slides under (their
+    /// friction law becomes steady sliding along `sliding`, and the friction sweep sets
+    /// their mu); default: the deck's only interaction.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub interaction: Option<String>,
+    /// A deck `file`: the sliding direction of the pairs of `interaction` (a deck gives no
+    /// disc rotation: `*MOTION` is not read).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sliding: Option<SlidingDirection>,
 }
 
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]

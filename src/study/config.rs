@@ -361,7 +361,35 @@ pub enum ConfigError {
     },
 }
 
+/// Whether a study command's file is an Abaqus/CalculiX deck (`.inp`) rather than a study.
+pub fn is_deck(path: &Path) -> bool {
+    path.extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("inp"))
+}
+
 impl Study {
+    /// The study of a deck run as written (`squeal sweep deck.inp`): the deck as the mesh
+    /// file (with its supports, loads and contact pairs), every other key at its default.
+    pub fn of_deck(path: &Path) -> Study {
+        Study {
+            mesh: MeshSpec {
+                file: Some(path.to_path_buf()),
+                ..Default::default()
+            },
+            materials: vec![],
+            supports: vec![],
+            springs: vec![],
+            links: vec![],
+            pressures: vec![],
+            contacts: vec![],
+            analysis: AnalysisSpec::default(),
+            reduction: None,
+            comparison: None,
+            output: default_output(),
+        }
+    }
+
     /// The built-in study of a preset: [`Self::builtin_floating_caliper`] for the
     /// floating-caliper presets (`tiny-caliper` ... `industrial-caliper`),
     /// [`Self::builtin_spring_held`] for the others (`tiny` ... `industrial`, and unknown
@@ -398,6 +426,7 @@ impl Study {
                 file: None,
                 preset: Some(preset.to_string()),
                 brake: None,
+                ..Default::default()
             },
             materials: vec![],
             supports: vec![SupportSpec {
@@ -490,6 +519,7 @@ impl Study {
                 file: None,
                 preset: Some(preset.to_string()),
                 brake: brake_params,
+                ..Default::default()
             },
             materials: vec![],
             supports: ["disc_hub", "bracket_mount"]

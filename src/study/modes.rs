@@ -127,6 +127,15 @@ fn solve_and_write(
         for w in &model.warnings {
             tracing::warn!("{w}");
         }
+        // Real modes are of the structure alone: a deck's contact pairs need the sweep.
+        if !model.pairs.is_empty() {
+            tracing::warn!(
+                "{} contact pair(s) of {} are not used by `squeal modes` (real modes without \
+                 contact); `squeal sweep` runs the static and the CEA with them",
+                model.pairs.len(),
+                model.source
+            );
+        }
     }
     let band = match (args.max_frequency_hz, args.count, model.frequency_step) {
         (Some(f), _, _) => ModeBand::Below {

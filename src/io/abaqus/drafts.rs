@@ -198,6 +198,43 @@ pub(super) struct StepDraft {
     pub(super) loc: Loc,
 }
 
+/// The normal law of an interaction as `*SURFACE BEHAVIOR` said it.
+#[derive(Clone, Copy)]
+pub(super) enum NormalDraft {
+    /// `PRESSURE-OVERCLOSURE=LINEAR`: the slope once its data line is read.
+    Linear(Option<f64>),
+    /// `PRESSURE-OVERCLOSURE=HARD` (or no `*SURFACE BEHAVIOR`): squeal's default penalty.
+    Hard,
+}
+
+/// A `*SURFACE INTERACTION` with the options that followed it.
+pub(super) struct InteractionDraft {
+    pub(super) written: String,
+    /// `*SURFACE BEHAVIOR`, and where.
+    pub(super) normal: Option<(NormalDraft, Loc)>,
+    /// `false` with `NO SEPARATION`.
+    pub(super) separation: bool,
+    pub(super) friction: Option<FrictionDraft>,
+    pub(super) loc: Loc,
+}
+
+/// A `*FRICTION`: mu (once its data line is read) and the stick slope.
+#[derive(Clone, Copy)]
+pub(super) struct FrictionDraft {
+    pub(super) mu: Option<f64>,
+    pub(super) stick_slope: Option<f64>,
+    pub(super) loc: Loc,
+}
+
+/// One data line of `*CONTACT PAIR`.
+pub(super) struct ContactPairDraft {
+    pub(super) interaction: Name,
+    pub(super) slave: Name,
+    pub(super) master: Name,
+    pub(super) adjust: Option<f64>,
+    pub(super) loc: Loc,
+}
+
 pub(super) struct PendingElement {
     pub(super) values: Vec<i64>,
     pub(super) last: Loc,
@@ -251,6 +288,21 @@ pub(super) enum Block {
     Frequency {
         subspace: bool,
         lines: usize,
+    },
+    /// Data lines of `*SURFACE INTERACTION` (Abaqus: the out-of-plane thickness of 2D models).
+    Interaction,
+    SurfaceBehavior {
+        interaction: String,
+        lines: usize,
+    },
+    Friction {
+        interaction: String,
+        lines: usize,
+    },
+    ContactPair {
+        interaction: Name,
+        adjust: Option<f64>,
+        small_sliding: bool,
     },
     Boundary,
     ConcentratedLoad,

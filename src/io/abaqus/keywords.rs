@@ -58,6 +58,14 @@ pub(super) fn refused(name: &str) -> Option<&'static str> {
             "*TRANSFORM (local DOF directions) is not supported; give supports and loads in \
              global directions"
         }
+        "CONTACT" | "CONTACTINCLUSIONS" | "CONTACTPROPERTYASSIGNMENT" => {
+            "Abaqus general contact is not supported (skipping it would lose every contact): \
+             give the interfaces as *CONTACT PAIR, TYPE=NODE TO SURFACE"
+        }
+        "CLEARANCE" | "CONTACTINTERFERENCE" => {
+            "initial clearances and interferences of contact pairs are not supported (they \
+             would change the gaps): move the nodes, or use ADJUST= on *CONTACT PAIR"
+        }
         "NGEN" | "NFILL" | "NCOPY" | "NMAP" | "ELGEN" | "ELCOPY" => {
             "node and element generation is not supported; list the nodes and elements"
         }
@@ -77,6 +85,9 @@ impl Reader {
         self.finish_element(Some(&kw))?;
         if !matches!(kw.name.as_str(), "ELASTIC" | "DENSITY") && self.is_known(&kw.name) {
             self.material = None;
+        }
+        if !matches!(kw.name.as_str(), "SURFACEBEHAVIOR" | "FRICTION") && self.is_known(&kw.name) {
+            self.interaction = None;
         }
         let input = if self.is_known(&kw.name) {
             self.param(&mut kw, "INPUT")?
@@ -128,6 +139,10 @@ impl Reader {
                 // The optional data line (thickness) means nothing for solids.
                 Block::Skip
             }
+            "SURFACEINTERACTION" => self.surface_interaction_keyword(&mut kw)?,
+            "SURFACEBEHAVIOR" => self.surface_behavior_keyword(&mut kw)?,
+            "FRICTION" => self.friction_keyword(&mut kw)?,
+            "CONTACTPAIR" => self.contact_pair_keyword(&mut kw)?,
             "STEP" => self.step_keyword(&mut kw)?,
             "ENDSTEP" => {
                 let Some(step) = self.step.take() else {
@@ -242,6 +257,10 @@ impl Reader {
                 | "ELASTIC"
                 | "DENSITY"
                 | "SOLIDSECTION"
+                | "SURFACEINTERACTION"
+                | "SURFACEBEHAVIOR"
+                | "FRICTION"
+                | "CONTACTPAIR"
                 | "STEP"
                 | "ENDSTEP"
                 | "STATIC"
@@ -260,7 +279,7 @@ impl Reader {
         }
     }
 
-    fn model_only(&self, kw: &Keyword) -> Result<(), MeshError> {
+    pub(super) fn model_only(&self, kw: &Keyword) -> Result<(), MeshError> {
         match &self.step {
             Some(step) => Err(self.err(
                 kw.loc,
@@ -645,17 +664,44 @@ mod tests {
     #[test]
     fn unknown_keywords_are_skipped_and_listed_in_one_warning() {
         let text = format!(
-            "{}*CONTACT PAIR, INTERACTION=FRIC\nPAD, DISC\n*STEP\n*STATIC\n*OUTPUT, FIELD\n\
+            "{}*TIE, NAME=GLUE\nPAD, DISC\n*STEP\n*STATIC\n*OUTPUT, FIELD\n\
              *NODE OUTPUT\nU\n*OUTPUT, HISTORY\n*END STEP\n",
             one_tet()
         );
         let deck = read_text("unknown", &text).unwrap();
         assert_eq!(deck.warnings.len(), 1, "{:?}", deck.warnings);
         let w = &deck.warnings[0];
-        assert!(w.contains("*CONTACT PAIR (1x, first at "), "{w}");
+        assert!(w.contains("*TIE (1x, first at "), "{w}");
         assert!(w.contains("*OUTPUT (2x, first at "), "{w}");
         assert!(w.contains("*NODE OUTPUT (1x"), "{w}");
         assert!(w.contains("deck.inp:"), "{w}");
+    }
+
+    #[test]
+    fn general_contact_and_clearances_are_refused_by_name() {
+        for (keyword, said) in [
+            (
+                "*CONTACT
+*CONTACT INCLUSIONS, ALL EXTERIOR
+",
+                "general contact",
+            ),
+            (
+                "*CONTACT INCLUSIONS, ALL EXTERIOR
+",
+                "general contact",
+            ),
+            (
+                "*CLEARANCE, MASTER=A, SLAVE=B, VALUE=1e-5
+",
+                "clearances",
+            ),
+        ] {
+            let text = format!("{}{keyword}", one_tet());
+            let (_, line, message) = parse_error(read_text("err-general-contact", &text));
+            assert_eq!(line, one_tet().lines().count() + 1, "{message}");
+            assert!(message.contains(said), "{message}");
+        }
     }
 
     #[test]

@@ -316,6 +316,20 @@ impl Reader {
                 }
             }
         };
+        // The area each node stands for in node-to-surface contact (Abaqus: 1 when blank).
+        if let Some(area) = self.optional_number(&f, 1, loc, "area of each node")? {
+            if area <= 0.0 {
+                return Err(self.err(
+                    loc,
+                    format!(
+                        "*SURFACE {}: expected an area > 0, found {area}",
+                        name.written
+                    ),
+                ));
+            }
+            self.node_areas
+                .push((name.canon.clone(), members.clone(), area));
+        }
         if let Some(set) = self.node_sets.get_mut(&name.canon) {
             set.add_all(&members);
         }

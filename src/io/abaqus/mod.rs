@@ -15,13 +15,16 @@
 //! | `*SOLID SECTION, ELSET=, MATERIAL=` | one [`Part`](crate::mesh::Part) per section |
 //! | `*BOUNDARY`, `*CLOAD`, `*DSLOAD`, `*DLOAD` | [`Boundary`], [`ConcentratedLoad`], [`PressureLoad`] |
 //! | `*STEP` ... `*END STEP`, `*STATIC`, `*FREQUENCY` | [`Step`] |
+//! | `*SURFACE INTERACTION, NAME=` with `*SURFACE BEHAVIOR` (`PRESSURE-OVERCLOSURE=LINEAR` slope, `HARD`, `NO SEPARATION`) and `*FRICTION` (mu, stick slope) | [`SurfaceInteraction`] |
+//! | `*CONTACT PAIR, INTERACTION=, TYPE=NODE TO SURFACE` (`SMALL SLIDING`, `ADJUST=` distance) | [`DeckContactPair`] (element- or node-based slave) |
 //!
 //! `INPUT=` on a data keyword (`*NODE, INPUT=nodes.inp`) reads its data lines from that file.
 //! A keyword line ending with a comma continues on the next line. Other keywords (`*OUTPUT`,
-//! `*NODE FILE`, `*CONTACT PAIR`, `*TIE`, ...) are skipped with their data lines and listed, with
+//! `*NODE FILE`, `*TIE`, ...) are skipped with their data lines and listed, with
 //! counts and the first place each appeared, in ONE warning. Keywords that would silently change
 //! geometry or load directions if skipped (`*PART`/`*INSTANCE`, `*SYSTEM`, `*TRANSFORM`, node and
-//! element generation) are refused with an error instead.
+//! element generation, Abaqus general contact, contact clearances) are refused with an error
+//! instead.
 //!
 //! # Conventions decided here
 //!
@@ -68,10 +71,11 @@
 //! `lines.rs` (the deck's lines with includes), `lexer.rs` (keyword lines and fields),
 //! `reader.rs` (the reader's state and line loop), `keywords.rs` (what each keyword starts),
 //! `mesh_lines.rs`, `material_lines.rs`, `procedure_lines.rs` and `load_lines.rs` (data lines
-//! by keyword family), `drafts.rs` (what was said, unresolved), `resolve.rs` (labels and names
+//! by keyword family), `contact_lines.rs` (the contact keywords, read and resolved), `drafts.rs` (what was said, unresolved), `resolve.rs` (labels and names
 //! to the model), `records.rs` (the public records) and `steps.rs` (what is in force in a
 //! step).
 
+mod contact_lines;
 mod drafts;
 mod keywords;
 mod lexer;
@@ -93,8 +97,9 @@ use std::path::Path;
 use crate::mesh::{Mesh, MeshError};
 use reader::Reader;
 pub use records::{
-    Boundary, ConcentratedLoad, FrequencyRequest, NodeTarget, PressureLoad, PressureTarget,
-    Procedure, Replaced, SourceLine, StaticRequest, Step,
+    Boundary, ConcentratedLoad, DeckContactPair, FrequencyRequest, NodeTarget, NormalBehavior,
+    PressureLoad, PressureTarget, Procedure, Replaced, SlaveSurface, SourceLine, StaticRequest,
+    Step, SurfaceInteraction,
 };
 pub use steps::Loading;
 
@@ -117,6 +122,10 @@ pub struct Deck {
     /// Model-data pressures.
     pub pressures: Vec<PressureLoad>,
     pub steps: Vec<Step>,
+    /// `*SURFACE INTERACTION`s by upper-case name, each used by a pair.
+    pub interactions: BTreeMap<String, SurfaceInteraction>,
+    /// `*CONTACT PAIR` data lines, in the order written.
+    pub contact_pairs: Vec<DeckContactPair>,
     /// Things a person should know: skipped keywords, ignored parameters and DOFs...
     pub warnings: Vec<String>,
 }

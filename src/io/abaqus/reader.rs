@@ -33,6 +33,14 @@ pub(super) struct Reader {
     /// The material that `*ELASTIC` / `*DENSITY` belong to.
     pub(super) material: Option<String>,
     pub(super) sections: Vec<SectionDraft>,
+    /// Areas given on `*SURFACE, TYPE=NODE` data lines: (surface, nodes, area).
+    pub(super) node_areas: Vec<(String, SetDraft, f64)>,
+    pub(super) interactions: BTreeMap<String, InteractionDraft>,
+    /// The interaction that `*SURFACE BEHAVIOR` / `*FRICTION` belong to.
+    pub(super) interaction: Option<String>,
+    pub(super) contact_pairs: Vec<ContactPairDraft>,
+    /// Differences between the deck's contact law and squeal's, for one warning.
+    pub(super) contact_notes: Tally,
 
     pub(super) model: LoadDrafts,
     pub(super) step: Option<StepDraft>,
@@ -68,6 +76,11 @@ impl Reader {
             materials: BTreeMap::new(),
             material: None,
             sections: Vec::new(),
+            node_areas: Vec::new(),
+            interactions: BTreeMap::new(),
+            interaction: None,
+            contact_pairs: Vec::new(),
+            contact_notes: Tally::default(),
             model: LoadDrafts::default(),
             step: None,
             steps: Vec::new(),
@@ -228,6 +241,30 @@ impl Reader {
             Block::Frequency { subspace, lines } => {
                 *lines += 1;
                 self.frequency_line(*subspace, *lines, text, loc)
+            }
+            Block::Interaction => {
+                self.ignored_parameters.add(
+                    "data line of *SURFACE INTERACTION (out-of-plane thickness, 2D models only)",
+                    loc,
+                );
+                Ok(())
+            }
+            Block::SurfaceBehavior { interaction, lines } => {
+                *lines += 1;
+                self.surface_behavior_line(interaction, *lines, text, loc)
+            }
+            Block::Friction { interaction, lines } => {
+                *lines += 1;
+                self.friction_line(interaction, *lines, text, loc)
+            }
+            Block::ContactPair {
+                interaction,
+                adjust,
+                small_sliding,
+            } => {
+                let (interaction, adjust, small_sliding) =
+                    (interaction.clone(), *adjust, *small_sliding);
+                self.contact_pair_line(interaction, adjust, small_sliding, text, loc)
             }
             Block::Boundary => self.boundary_line(text, loc),
             Block::ConcentratedLoad => self.load_line(text, loc),

@@ -138,3 +138,62 @@ pub struct Step {
     /// The `*STEP` line.
     pub source: SourceLine,
 }
+
+/// The normal law of a surface interaction (`*SURFACE BEHAVIOR`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum NormalBehavior {
+    /// `PRESSURE-OVERCLOSURE=LINEAR`: the slope of the pressure-overclosure line, pressure
+    /// per unit overclosure: squeal's penalty per unit area.
+    Linear { slope: f64 },
+    /// `PRESSURE-OVERCLOSURE=HARD`, or no `*SURFACE BEHAVIOR` (Abaqus' default): squeal's
+    /// penalty law with its default penalty 10 E_min / h (a study's `[[contacts]]` table of
+    /// the pair's name can give another).
+    Hard,
+}
+
+/// A `*SURFACE INTERACTION` with its `*SURFACE BEHAVIOR` and `*FRICTION`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SurfaceInteraction {
+    /// Upper-case name.
+    pub name: String,
+    pub normal: NormalBehavior,
+    /// `false` with `*SURFACE BEHAVIOR, NO SEPARATION` (bilateral: the law may pull).
+    pub separation: bool,
+    /// Friction coefficient (0 without `*FRICTION`).
+    pub friction: f64,
+    /// CalculiX's stick slope (second field of the `*FRICTION` data line), tangential
+    /// stiffness per unit area while sticking; `None`: squeal's default (penalty / 100).
+    pub stick_slope: Option<f64>,
+    /// The `*SURFACE INTERACTION` line.
+    pub source: SourceLine,
+}
+
+/// The slave side of a deck contact pair.
+#[derive(Clone, Debug, PartialEq)]
+pub enum SlaveSurface {
+    /// An element-based surface (upper-case name, in [`Mesh::surfaces`](crate::mesh::Mesh)):
+    /// its nodes, with tributary areas from its faces.
+    Faces(String),
+    /// A node-based surface (upper-case name): its nodes with the area each stands for
+    /// (the `*SURFACE, TYPE=NODE` data line's second field; 1 when blank, as in Abaqus).
+    Nodes {
+        name: String,
+        nodes: Vec<(usize, f64)>,
+    },
+}
+
+/// One data line of `*CONTACT PAIR, TYPE=NODE TO SURFACE`: a node-to-surface pair.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DeckContactPair {
+    /// `SLAVE:MASTER` (upper case): the name a study's `[[contacts]]` table uses to replace
+    /// the pair.
+    pub name: String,
+    /// The interaction's upper-case name (a key of [`super::Deck::interactions`]).
+    pub interaction: String,
+    pub slave: SlaveSurface,
+    /// Element-based master surface, upper-case name.
+    pub master: String,
+    /// `ADJUST=` distance: slave nodes whose gap is below it start exactly in contact.
+    pub adjust: Option<f64>,
+    pub source: SourceLine,
+}

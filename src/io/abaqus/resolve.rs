@@ -79,8 +79,13 @@ impl Reader {
             });
         }
 
+        let interactions = self.resolve_interactions()?;
+        let contact_pairs = self.resolve_contact_pairs(&mesh, &interactions)?;
+
         self.collect_warnings();
         Ok(Deck {
+            interactions,
+            contact_pairs,
             mesh,
             heading: self.heading.join("\n"),
             element_sets,
@@ -441,6 +446,12 @@ impl Reader {
             front.push(format!(
                 "rotational DOFs 4-6 ignored (C3D10 nodes have only displacements): {}",
                 self.rotational_dofs.describe(&self.lines)
+            ));
+        }
+        if !self.contact_notes.entries.is_empty() {
+            front.push(format!(
+                "contact read with squeal's law where the deck's differs: {}",
+                self.contact_notes.describe(&self.lines)
             ));
         }
         front.append(&mut self.warnings);

@@ -161,6 +161,10 @@ pub struct SweepArgs {
     pub output: Option<PathBuf>,
     pub reduction: Option<ReductionSpec>,
     pub superelements: SuperElementArgs,
+    /// A deck's interaction whose pairs slide (study key `mesh.interaction`).
+    pub interaction: Option<String>,
+    /// Their sliding direction (study key `mesh.sliding`).
+    pub sliding: Option<crate::contact::SlidingDirection>,
 }
 
 /// What `squeal sweep`'s super-element flags change in the study's `[reduction]`.
@@ -200,6 +204,18 @@ pub fn study_from_args(
     args: SweepArgs,
 ) -> Result<(Study, String), StudyError> {
     let (mut study, name) = match file {
+        // A deck is its own study: its mesh, supports, loads and contact pairs.
+        Some(path) if super::config::is_deck(path) => {
+            // A missing deck is said before any flag it would need.
+            let found = std::fs::metadata(path).map(|_| ()).map_err(|source| {
+                super::config::ConfigError::Io {
+                    file: path.to_path_buf(),
+                    source,
+                }
+            });
+            collective(comm, found)?;
+            (Study::of_deck(path), path.display().to_string())
+        }
         Some(path) => (
             collective(comm, Study::read(path))?,
             path.display().to_string(),
@@ -217,6 +233,25 @@ pub fn study_from_args(
         if study.mesh.file.is_none() {
             study.mesh.preset = Some(p);
         }
+    }
+    if args.interaction.is_some() {
+        study.mesh.interaction = args.interaction;
+    }
+    if args.sliding.is_some() {
+        study.mesh.sliding = args.sliding;
+    }
+    if file.is_some_and(super::config::is_deck) && study.mesh.sliding.is_none() {
+        // The same flags on every rank: every rank has this error.
+        return Err(StudyError::BadFlag {
+            flag: "--disc-axis",
+            why: "a friction sweep of a deck needs the sliding direction of the pairs the \
+                  disc slides under, and the deck gives none (*MOTION is not read): give \
+                  --disc-axis X0,Y0,Z0,AX,AY,AZ (the disc turns about that axis, positive \
+                  sense) or --sliding-direction X,Y,Z, and --interaction NAME when the deck \
+                  has several interactions"
+                .into(),
+        }
+        .collective());
     }
     if let Some(f) = args.friction {
         study.analysis.friction = f;

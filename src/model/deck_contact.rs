@@ -1,0 +1,298 @@
+//! A deck's contact pairs as squeal contact pairs, and the choice of the interaction a
+//! friction sweep slides.
+//!
+//! Each `*CONTACT PAIR` data line becomes one node-to-surface pair named `SLAVE:MASTER`
+//! with squeal's penalty law: the `PRESSURE-OVERCLOSURE=LINEAR` slope is the penalty per
+//! unit area (`HARD`: squeal's default 10 E_min / h), `NO SEPARATION` makes it bilateral.
+//! Friction: none when mu = 0 (a Coulomb law with mu = 0 would still stick at the first
+//! iteration and add a tangential stiffness the deck does not have); Coulomb with the
+//! deck's stick slope otherwise; steady sliding once [`slide`] gives the pairs of an
+//! interaction a sliding direction (the disc turning under them), which the deck itself
+//! cannot say yet (`*MOTION` is not read).
+
+use std::collections::BTreeMap;
+
+use super::{Model, ModelError};
+use crate::contact::{
+    self, ContactPair, FrictionLaw, PairSettings, SearchOptions, SlidingDirection,
+};
+use crate::io::abaqus::{Deck, DeckContactPair, NormalBehavior, SlaveSurface};
+
+/// The pairs of `deck`, built on its mesh, and the interaction of each (by pair name).
+pub(super) fn pairs(
+    deck: &Deck,
+) -> Result<(Vec<ContactPair>, BTreeMap<String, String>), ModelError> {
+    let mut pairs = Vec::with_capacity(deck.contact_pairs.len());
+    let mut interactions = BTreeMap::new();
+    for p in &deck.contact_pairs {
+        pairs.push(pair(deck, p)?);
+        interactions.insert(p.name.clone(), p.interaction.clone());
+    }
+    Ok((pairs, interactions))
+}
+
+fn pair(deck: &Deck, p: &DeckContactPair) -> Result<ContactPair, ModelError> {
+    // The reader checked that the interaction and the surfaces exist.
+    let interaction = &deck.interactions[&p.interaction];
+    let law = if interaction.friction > 0.0 {
+        FrictionLaw::Coulomb {
+            stick_stiffness: interaction.stick_slope,
+        }
+    } else {
+        FrictionLaw::SteadySliding
+    };
+    let settings = PairSettings {
+        name: p.name.clone(),
+        friction: interaction.friction,
+        penalty: match interaction.normal {
+            NormalBehavior::Linear { slope } => Some(slope),
+            NormalBehavior::Hard => None,
+        },
+        separation: interaction.separation,
+        sliding: SlidingDirection::None,
+        law,
+    };
+    let mesh = &deck.mesh;
+    let master = &mesh.surfaces[&p.master];
+    let options = SearchOptions::default();
+    let built = match &p.slave {
+        SlaveSurface::Faces(name) => {
+            contact::node_to_surface(mesh, &mesh.surfaces[name], master, settings, &options)
+        }
+        SlaveSurface::Nodes { nodes, .. } => {
+            contact::nodes_to_surface(mesh, nodes, master, settings, &options)
+        }
+    };
+    let mut pair = built.map_err(|source| ModelError::Contact {
+        key: format!("{}: *CONTACT PAIR", p.source),
+        name: p.name.clone(),
+        source: Box::new(source),
+    })?;
+    // ADJUST: the slave nodes closer than the distance (or penetrating) are moved onto the
+    // master; squeal keeps the node where it is and starts its gap at zero, which is the
+    // same contact law (the slave element's shape differs by at most the distance).
+    if let Some(distance) = p.adjust {
+        for point in &mut pair.points {
+            if point.initial_gap <= distance {
+                point.initial_gap = 0.0;
+            }
+        }
+    }
+    Ok(pair)
+}
+
+/// Gives the pairs of one interaction the sliding direction `sliding` (steady-sliding
+/// friction) and marks them as the ones a friction sweep sets mu on. `interaction`:
+/// the interaction's name; `None`: the deck's only interaction used by pairs. `key` names
+/// the setting in messages.
+pub fn slide(
+    model: &mut Model,
+    interaction: Option<&str>,
+    sliding: &SlidingDirection,
+    key: &str,
+) -> Result<(), ModelError> {
+    let invalid = |why: String| ModelError::Invalid {
+        key: key.to_string(),
+        why,
+    };
+    let mut names: Vec<&String> = model.deck_interactions.values().collect();
+    names.sort_unstable();
+    names.dedup();
+    let listed = names
+        .iter()
+        .map(|n| n.as_str())
+        .collect::<Vec<_>>()
+        .join(", ");
+    let chosen = match interaction {
+        Some(wanted) => names
+            .iter()
+            .find(|n| n.eq_ignore_ascii_case(wanted))
+            .map(|n| n.to_string())
+            .ok_or_else(|| {
+                invalid(format!(
+                    "no interaction named '{wanted}' is used by a *CONTACT PAIR of {} \
+                     (interactions: {})",
+                    model.source,
+                    if listed.is_empty() { "none" } else { &listed }
+                ))
+            })?,
+        None => match names.as_slice() {
+            [one] => one.to_string(),
+            [] => {
+                return Err(invalid(format!(
+                    "{} has no *CONTACT PAIR to slide",
+                    model.source
+                )))
+            }
+            _ => {
+                return Err(invalid(format!(
+                    "{} has several interactions ({listed}): name the one whose pairs the \
+                     disc slides under",
+                    model.source
+                )))
+            }
+        },
+    };
+    if model.swept.len() != model.pairs.len() {
+        model.swept.resize(model.pairs.len(), false);
+    }
+    for (pair, swept) in model.pairs.iter_mut().zip(model.swept.iter_mut()) {
+        if model.deck_interactions.get(&pair.settings.name) == Some(&chosen) {
+            let name = pair.settings.name.clone();
+            pair.set_sliding(sliding.clone())
+                .map_err(|source| ModelError::Contact {
+                    key: key.to_string(),
+                    name,
+                    source: Box::new(source),
+                })?;
+            *swept = true;
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::contact::FrictionLaw;
+    use crate::model::source;
+    use std::path::{Path, PathBuf};
+
+    fn deck_path() -> PathBuf {
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/pad_on_plate.inp")
+    }
+
+    /// The committed deck with its interaction's lines replaced by `interaction`, written
+    /// beside a copy of its mesh in a fresh folder.
+    fn variant(test: &str, interaction: &str) -> (PathBuf, PathBuf) {
+        let dir =
+            std::env::temp_dir().join(format!("squeal-deck-contact-{test}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        let data = deck_path().parent().unwrap().to_path_buf();
+        std::fs::copy(
+            data.join("pad_on_plate_mesh.inp"),
+            dir.join("pad_on_plate_mesh.inp"),
+        )
+        .unwrap();
+        let text = std::fs::read_to_string(deck_path()).unwrap().replace(
+            "*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=LINEAR\n1e13\n",
+            interaction,
+        );
+        let path = dir.join("deck.inp");
+        std::fs::write(&path, text).unwrap();
+        (dir, path)
+    }
+
+    #[test]
+    fn the_deck_pair_has_the_slope_as_penalty_and_no_friction() {
+        let model = source::read(&deck_path()).unwrap();
+        assert_eq!(model.pairs.len(), 1);
+        let pair = &model.pairs[0];
+        assert_eq!(pair.settings.name, "PADBOTTOM:PLATETOP");
+        assert_eq!(pair.penalty, 1e13);
+        assert_eq!(pair.settings.friction, 0.0);
+        assert_eq!(pair.settings.law, FrictionLaw::SteadySliding);
+        assert!(pair.settings.separation);
+        assert_eq!(pair.points.len(), 49);
+        // The slave areas add up to the pad's 0.026 x 0.026 m bottom.
+        let area: f64 = pair.points.iter().map(|p| p.area).sum();
+        assert!((area - 0.026 * 0.026).abs() < 1e-12, "{area}");
+        assert!(pair.points.iter().all(|p| p.tangent.is_none()));
+        assert_eq!(model.swept, vec![false]);
+        assert_eq!(model.deck_interactions["PADBOTTOM:PLATETOP"], "PADPLATE");
+    }
+
+    #[test]
+    fn friction_with_a_stick_slope_is_coulomb_and_sliding_makes_it_steady() {
+        let (dir, path) = variant(
+            "coulomb",
+            "*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=HARD, NO SEPARATION\n*FRICTION\n0.4, 3e10\n",
+        );
+        let mut model = source::read(&path).unwrap();
+        let pair = &model.pairs[0];
+        assert_eq!(pair.settings.friction, 0.4);
+        assert_eq!(
+            pair.settings.law,
+            FrictionLaw::Coulomb {
+                stick_stiffness: Some(3e10)
+            }
+        );
+        assert!(!pair.settings.separation);
+        assert_eq!(
+            pair.settings.penalty, None,
+            "HARD: squeal's default penalty"
+        );
+        // Sliding about the z axis through the plate's middle: steady sliding, swept, and
+        // each point's tangent circumferential.
+        let axis = SlidingDirection::DiscRotation {
+            centre: [0.02, 0.02, 0.0],
+            axis: [0.0, 0.0, 1.0],
+            sense: 1.0,
+        };
+        slide(&mut model, None, &axis, "mesh.sliding").unwrap();
+        let pair = &model.pairs[0];
+        assert_eq!(pair.settings.law, FrictionLaw::SteadySliding);
+        assert_eq!(model.swept, vec![true]);
+        for p in &pair.points {
+            let r = [p.position[0] - 0.02, p.position[1] - 0.02];
+            match p.tangent {
+                Some(t) => assert!(
+                    (t[0] * r[0] + t[1] * r[1]).abs() < 1e-12 && t[2].abs() < 1e-12,
+                    "{t:?} at {r:?}"
+                ),
+                None => assert!(r[0].hypot(r[1]) < 1e-9, "only on the axis"),
+            }
+        }
+        // A wrong name lists the interactions.
+        let e = slide(&mut model, Some("disc"), &axis, "--interaction")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("no interaction named 'disc'") && e.contains("PADPLATE"),
+            "{e}"
+        );
+        let _ = std::fs::remove_dir_all(dir);
+    }
+
+    #[test]
+    fn adjust_starts_the_near_slave_nodes_in_contact() {
+        // Lift the pad by 1e-6 m: without ADJUST every gap is 1e-6, with ADJUST=2e-6 none.
+        let (dir, path) = variant(
+            "adjust",
+            "*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=LINEAR\n1e13\n",
+        );
+        let mesh = dir.join("pad_on_plate_mesh.inp");
+        let lifted: String = std::fs::read_to_string(&mesh)
+            .unwrap()
+            .lines()
+            .map(|l| {
+                let f: Vec<&str> = l.split(", ").collect();
+                match f[..] {
+                    [label, x, y, z]
+                        if label.parse::<i64>().is_ok_and(|n| n > 1000)
+                            && f.len() == 4
+                            && !l.starts_with('*') =>
+                    {
+                        let z: f64 = z.parse().unwrap();
+                        format!("{label}, {x}, {y}, {:.9}\n", z + 1e-6)
+                    }
+                    _ => format!("{l}\n"),
+                }
+            })
+            .collect();
+        std::fs::write(&mesh, lifted).unwrap();
+        let model = source::read(&path).unwrap();
+        assert!(model.pairs[0]
+            .points
+            .iter()
+            .all(|p| (p.initial_gap - 1e-6).abs() < 1e-12));
+        let text = std::fs::read_to_string(&path)
+            .unwrap()
+            .replace("SMALL SLIDING\n", "SMALL SLIDING, ADJUST=2e-6\n");
+        std::fs::write(&path, text).unwrap();
+        let model = source::read(&path).unwrap();
+        assert!(model.pairs[0].points.iter().all(|p| p.initial_gap == 0.0));
+        let _ = std::fs::remove_dir_all(dir);
+    }
+}
