@@ -102,6 +102,40 @@ pub fn scratch(prefix: &str, name: &str) -> PathBuf {
     dir
 }
 
+/// A crash at a chosen moment: waits (up to 300 s) until `ready()` while `job` (mpirun)
+/// runs, then freezes its ranks (SIGSTOP: nothing more is computed or written from that
+/// instant, where a signal to mpirun reaches them only a moment later, in which a fast
+/// machine finishes more) and kills them (SIGKILL, a crash: no handler runs). Returns
+/// mpirun's output once it has ended.
+pub fn crash_when(mut job: std::process::Child, what: &str, ready: impl Fn() -> bool) -> Output {
+    let started = std::time::Instant::now();
+    while !ready() {
+        assert!(
+            job.try_wait().unwrap().is_none(),
+            "the job ended before {what}"
+        );
+        assert!(started.elapsed().as_secs() < 300, "no {what} after 300 s");
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    let parent = job.id().to_string();
+    for signal in ["-STOP", "-KILL"] {
+        let sent = Command::new("pkill")
+            .args([signal, "-P", &parent])
+            .status()
+            .unwrap();
+        assert!(sent.success(), "pkill {signal} -P {parent}: no rank found");
+    }
+    let stopping = std::time::Instant::now();
+    while job.try_wait().unwrap().is_none() {
+        if stopping.elapsed().as_secs() > 60 {
+            let _ = job.kill();
+            panic!("mpirun did not end within 60 s of its ranks' crash");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(100));
+    }
+    job.wait_with_output().unwrap()
+}
+
 /// Waits (up to 300 s) until `ready` exists while `job` runs, sends SIGINT to it (mpirun),
 /// and waits (up to 60 s) for it to end: what the interruption tests share. Returns its
 /// output; panics if the job ends before `ready` appears or does not stop.
