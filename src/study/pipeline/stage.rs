@@ -9,6 +9,7 @@
 //! one recorded beside its folder is not run again.
 
 use crate::mesh::hash::text_hash;
+use crate::reduce::Strategy;
 use crate::study::config::{ReductionSpec, Study};
 use std::path::PathBuf;
 
@@ -122,7 +123,11 @@ pub fn plan(study: &Study, mesh_hash: &str) -> Vec<Stage> {
             let name = format!("superelements-{}-{n}", strategy.name());
             let mut r = reduced_interface(base, n);
             if let Some(b) = base {
-                r.superelement_friction = b.superelement_friction;
+                // mu_SE is the single strategy's alone: the others build at the sweep's own
+                // friction values, so a new mu_SE does not recompute them.
+                if strategy == Strategy::Single {
+                    r.superelement_friction = b.superelement_friction;
+                }
                 r.cutoff_frequency_hz = b.cutoff_frequency_hz;
                 r.k_linear = b.k_linear;
                 r.k_cubic = b.k_cubic;
@@ -244,18 +249,15 @@ mod tests {
         let mut s = study();
         s.output = "elsewhere".into();
         assert!(changed(&s).is_empty());
-        // mu_SE: only the super-elements and their comparison.
+        // mu_SE: only the single super-element and its comparison (the adaptive strategy
+        // builds at the sweep's own friction values).
         let mut s = study();
         let mut r = ReductionSpec::with_count(52);
         r.superelement_friction = Some(0.3);
         s.reduction = Some(r);
         assert_eq!(
             changed(&s),
-            [
-                "superelements-single-22",
-                "superelements-adaptive-22",
-                "compare-superelements"
-            ]
+            ["superelements-single-22", "compare-superelements"]
         );
         // The band: everything.
         let mut s = study();

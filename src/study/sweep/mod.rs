@@ -463,8 +463,10 @@ fn resume<'rt>(
     let mut count = vec![reports.len() as f64];
     comm.broadcast_from_root(&mut count);
     let resumed = count[0] as usize;
-    if resumed == 0 {
-        return Ok(0);
+    // Every point reused: nothing is solved after them, so the model need not stand there
+    // (restoring a super-element sweep rebuilds its current super-element).
+    if resumed == 0 || resumed == keys.len() {
+        return Ok(resumed);
     }
     comm.broadcast_bytes_from_root(&mut checkpoint);
     let cp: ModelCheckpoint =
