@@ -108,6 +108,33 @@ pub fn scratch(prefix: &str, name: &str) -> PathBuf {
 /// machine finishes more) and kills them (SIGKILL, a crash: no handler runs). Returns
 /// mpirun's output once it has ended.
 pub fn crash_when(mut job: std::process::Child, what: &str, ready: impl Fn() -> bool) -> Output {
+    wait_until(&mut job, what, ready);
+    let parent = job.id().to_string();
+    for signal in ["-STOP", "-KILL"] {
+        let sent = Command::new("pkill")
+            .args([signal, "-P", &parent])
+            .status()
+            .unwrap();
+        assert!(sent.success(), "pkill {signal} -P {parent}: no rank found");
+    }
+    wait_for_end(job)
+}
+
+/// Waits (up to 300 s) until `ready` exists while `job` runs, sends SIGINT to it (mpirun),
+/// and waits (up to 60 s) for it to end: what the interruption tests share. Returns its
+/// output; panics if the job ends before `ready` appears or does not stop.
+pub fn interrupt_when(mut job: std::process::Child, ready: &Path) -> Output {
+    wait_until(&mut job, &ready.display().to_string(), || ready.exists());
+    let signalled = Command::new("kill")
+        .args(["-INT", &job.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(signalled.success());
+    wait_for_end(job)
+}
+
+/// Asks `ready()` every 20 ms (up to 300 s) while `job` runs; panics if the job ends first.
+fn wait_until(job: &mut std::process::Child, what: &str, ready: impl Fn() -> bool) {
     let started = std::time::Instant::now();
     while !ready() {
         assert!(
@@ -117,58 +144,15 @@ pub fn crash_when(mut job: std::process::Child, what: &str, ready: impl Fn() -> 
         assert!(started.elapsed().as_secs() < 300, "no {what} after 300 s");
         std::thread::sleep(std::time::Duration::from_millis(20));
     }
-    let parent = job.id().to_string();
-    for signal in ["-STOP", "-KILL"] {
-        let sent = Command::new("pkill")
-            .args([signal, "-P", &parent])
-            .status()
-            .unwrap();
-        assert!(sent.success(), "pkill {signal} -P {parent}: no rank found");
-    }
+}
+
+/// The output of `job` once it has ended, which it must within 60 s.
+fn wait_for_end(mut job: std::process::Child) -> Output {
     let stopping = std::time::Instant::now();
     while job.try_wait().unwrap().is_none() {
         if stopping.elapsed().as_secs() > 60 {
             let _ = job.kill();
-            panic!("mpirun did not end within 60 s of its ranks' crash");
-        }
-        std::thread::sleep(std::time::Duration::from_millis(100));
-    }
-    job.wait_with_output().unwrap()
-}
-
-/// Waits (up to 300 s) until `ready` exists while `job` runs, sends SIGINT to it (mpirun),
-/// and waits (up to 60 s) for it to end: what the interruption tests share. Returns its
-/// output; panics if the job ends before `ready` appears or does not stop.
-pub fn interrupt_when(job: std::process::Child, ready: &Path) -> Output {
-    interrupt_once(job, &ready.display().to_string(), || ready.exists())
-}
-
-/// [`interrupt_when`] for any sign of readiness: `ready` (what `what` describes) is asked
-/// every 0.1 s.
-pub fn interrupt_once(
-    mut job: std::process::Child,
-    what: &str,
-    ready: impl Fn() -> bool,
-) -> Output {
-    let started = std::time::Instant::now();
-    while !ready() {
-        assert!(
-            job.try_wait().unwrap().is_none(),
-            "the job ended before {what}"
-        );
-        assert!(started.elapsed().as_secs() < 300, "no {what} after 300 s");
-        std::thread::sleep(std::time::Duration::from_millis(100));
-    }
-    let signalled = Command::new("kill")
-        .args(["-INT", &job.id().to_string()])
-        .status()
-        .unwrap();
-    assert!(signalled.success());
-    let stopping = std::time::Instant::now();
-    while job.try_wait().unwrap().is_none() {
-        if stopping.elapsed().as_secs() > 60 {
-            let _ = job.kill();
-            panic!("the interrupted job did not stop within 60 s");
+            panic!("the stopped job did not end within 60 s");
         }
         std::thread::sleep(std::time::Duration::from_millis(100));
     }
