@@ -95,6 +95,10 @@ struct Choice {
     reduced_static_seconds: f64,
     build_seconds: f64,
     static_factorizations: usize,
+    /// The reduced-interface model's own equilibrium at this point's mu, when the strategy
+    /// solved it (all but the single super-element away from mu_SE): the operator whose
+    /// projection the super-element carries here, so the one its modes are checked against.
+    equilibrium: Option<StaticSolution>,
 }
 
 /// Rank 0's dense results, as every rank needs them.
@@ -321,6 +325,7 @@ impl<'rt> SuperElementModel<'rt> {
             reduced_static_seconds: 0.0,
             build_seconds: 0.0,
             static_factorizations: 0,
+            equilibrium: None,
         };
         let at = match self.settings.strategy {
             Strategy::Single if self.current.is_some() => {
@@ -377,6 +382,9 @@ impl<'rt> SuperElementModel<'rt> {
         choice.build_seconds = t.elapsed().as_secs_f64();
         // Single: made at mu_SE, which is this point only when mu = mu_SE.
         choice.anchored = at == mu;
+        if at == mu {
+            choice.equilibrium = Some(equilibrium);
+        }
         Ok(choice)
     }
 
@@ -577,9 +585,21 @@ impl<'rt> FrictionModel<'rt> for SuperElementModel<'rt> {
         let residuals = {
             let mut shapes = DenseMatrix::zeros(comm, local_rows, 2 * m.max(1))?;
             shapes.write_local(|i, c| if c < 2 * m { expanded[(i, c + 1)] } else { 0.0 })?;
+            // The tangent the modes are checked against: the reduced-interface model's at
+            // its own equilibrium at this mu where it was solved, the one the super-element's
+            // K_r is the projection of. At the expanded dense static instead, a kept Coulomb
+            // point a hair from opening or sticking there flips its state, and its penalty
+            // (thousands of times a mode's stiffness, on a node of almost no mass) swamped
+            // the residual: estimates of 1e3 on a reused tiny-caliper super-element whose
+            // modes were within 1.4 %. The single super-element away from mu_SE has no such
+            // equilibrium (not solving it is its point): the expanded static stands in.
+            let (u_tangent, slip_tangent) = match &choice.equilibrium {
+                Some(e) => (&e.displacement, &e.slip_before),
+                None => (&u_static, &current.slip),
+            };
             let (ku, mu_shapes, diagonal) =
                 self.base
-                    .with_tangent(comm, mu, &u_static, &current.slip, |operators| {
+                    .with_tangent(comm, mu, u_tangent, slip_tangent, |operators| {
                         let ku = operators.stiffness.mult_dense(&shapes)?.local_values()?;
                         let mu_shapes = operators.mass.mult_dense(&shapes)?.local_values()?;
                         let diagonal = operators.mass.diagonal()?.read()?.to_vec();
