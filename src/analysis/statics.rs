@@ -39,6 +39,8 @@ pub struct StaticOptions {
     /// How many times a failed increment may be halved.
     pub max_cutbacks: usize,
     pub newton: NewtonOptions,
+    /// A line search to retry a failed increment with before cutting the load back.
+    pub fallback_line_search: Option<String>,
 }
 
 impl Default for StaticOptions {
@@ -49,6 +51,18 @@ impl Default for StaticOptions {
             // A factorisation costs ~50 triangular-solve pairs on the brake presets (7 s vs
             // 0.13 s medium, 57 s vs 0.7 s industrial): keeping it pays up to ~40 switches.
             newton: NewtonOptions {
+                // The critical-point line search: the step length where the residual does
+                // no more work along the Newton direction, <F(x + l d), d> = 0, found by
+                // secants. Backtracking on |F|^2 crept: a full Newton step from a warm
+                // start flips stick, slip and open states by the hundred, |F| jumps, and
+                // backtracking took l = 0.1 (its floor) for ten or twenty iterations, each a
+                // factorisation. The floating caliper, to the same equilibria (with the
+                // secant step capped at the Newton step, see snes.rs): tiny, mu 0.1 to 0.9,
+                // 87 Newton iterations against 131 (8 instead of 9-36 per warm point);
+                // small, mu 0.3 to 0.6, 41 against 56; from rest at mu 0.3, 15 against 17
+                // (where l2, the other secant search, diverged). Backtracking stays as the
+                // fallback: a failed increment is retried with it before being cut back.
+                line_search: "cp".into(),
                 keep_factorization_rank: 40,
                 // Stiff ties (a reduced interface's springs, 1e12-1e13 N/m on the brake)
                 // put a floor of eps k_s |u| ~ 1e-8 N under |K u - F|, ~1e-9 of the load:
@@ -58,6 +72,7 @@ impl Default for StaticOptions {
                 roundoff_floor: 1e-8,
                 ..NewtonOptions::default()
             },
+            fallback_line_search: Some("bt".into()),
         }
     }
 }
@@ -395,10 +410,22 @@ pub fn solve<'rt>(
     let mut halvings = 0;
     let mut slip = problem.slip.clone();
     let mut slip_before = slip.clone();
+    let fallback = options
+        .fallback_line_search
+        .as_ref()
+        .map(|l| NewtonOptions {
+            line_search: l.clone(),
+            ..options.newton.clone()
+        });
+    let mut retried = false;
     while factor < 1.0 - 1e-12 {
         let target = (factor + step).min(1.0);
         let saved = x.copy()?;
-        match newton(comm, problem, &slip, target, &mut x, &options.newton) {
+        let newton_options = match &fallback {
+            Some(f) if retried => f,
+            _ => &options.newton,
+        };
+        match newton(comm, problem, &slip, target, &mut x, newton_options) {
             Ok(report) => {
                 tracing::info!(
                     "load factor {target:.3}: {} Newton iterations ({} factorisations), residual {}",
@@ -414,6 +441,7 @@ pub fn solve<'rt>(
                     reason: report.reason,
                 });
                 factor = target;
+                retried = false;
                 // Commit the increment's slip: every rank computes it from the same
                 // replicated displacements.
                 let u = node_displacements(&x, dofs)?;
@@ -425,7 +453,16 @@ pub fn solve<'rt>(
             Err(err @ StaticsError::Petsc(PetscError::Library { .. } | PetscError::Invalid(_))) => {
                 return Err(err)
             }
+            Err(err) if !retried && fallback.is_some() => {
+                let line_search = fallback.as_ref().map_or("", |f| f.line_search.as_str());
+                tracing::warn!(
+                    "load factor {target:.3} failed ({err}); retrying with the {line_search} line search"
+                );
+                retried = true;
+                x.copy_from(&saved)?;
+            }
             Err(err) => {
+                retried = false;
                 let why = err.to_string();
                 tracing::warn!("load factor {target:.3} failed ({why}); cutting back");
                 cutbacks.push((target, why.clone()));
