@@ -99,6 +99,80 @@ fn disc_deck_matches_calculix_below_10khz() {
     assert_close(&ours, &below, 1e-5, "disc vs CalculiX");
 }
 
+/// CalculiX 2.20 on the cantilever of beam_c3d10.inp with discrete elements
+/// (tests/data/discrete_c3d10.inp): a MASS at the free end, a SPRING1 to ground, a SPRINGA
+/// across the beam, a SPRING2 to a node held by *BOUNDARY, and a MASS on a node of its own
+/// held by three SPRING2. Same element matrices and the same springs and masses, so only
+/// the solvers' round-off separates the programs (measured: 4e-11 relative); asked 1e-6, the
+/// level of the plain beam's agreement with room for the solvers. Dropping any spring or mass
+/// moves some mode by more than 1e-3. Run on 1 and 2 ranks, which agree to 1e-9.
+#[test]
+fn discrete_deck_matches_calculix_on_one_and_two_ranks() {
+    let theirs = reference("discrete_c3d10.ccx.json");
+    let mut runs = Vec::new();
+    for ranks in [1, 2] {
+        let out = scratch(&format!("discrete-ccx-{ranks}"));
+        let ours = modes(
+            ranks,
+            &[&data("discrete_c3d10.inp"), "--mass-rule", "gauss4"],
+            &out,
+        );
+        assert_eq!(ours.len(), 12, "the deck's *FREQUENCY asks for 12 modes");
+        assert_close(
+            &ours,
+            &theirs,
+            1e-6,
+            &format!("discrete deck vs CalculiX, {ranks} rank(s)"),
+        );
+        runs.push(ours);
+    }
+    assert_close(&runs[1], &runs[0], 1e-9, "discrete deck, 2 ranks vs 1");
+}
+
+/// A point mass m on a node of its own, held by three SPRING1 to ground of stiffness k_i
+/// along x, y, z, beside a fully held tetrahedron: the only free DOFs are the mass's, and
+/// the eigenvalues are k_i / m exactly (400, 900, 1600), to round-off.
+#[test]
+fn a_mass_on_springs_to_ground_has_omega_squared_k_over_m() {
+    let out = scratch("mass-on-springs");
+    let mut deck = String::from("*NODE, NSET=TET\n");
+    let corners = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, 1.0],
+    ];
+    let edges = [(0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3)];
+    let mut points = corners.to_vec();
+    for (a, b) in edges {
+        points.push([0, 1, 2].map(|k| 0.5 * (corners[a][k] + corners[b][k])));
+    }
+    for (i, x) in points.iter().enumerate() {
+        deck.push_str(&format!("{}, {}, {}, {}\n", i + 1, x[0], x[1], x[2]));
+    }
+    deck.push_str(
+        "*NODE\n100, 3.0, 0.0, 0.0\n*ELEMENT, TYPE=C3D10, ELSET=SOLID\n\
+         1, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10\n*MATERIAL, NAME=STEEL\n*ELASTIC\n210e9, 0.3\n\
+         *DENSITY\n7850.\n*SOLID SECTION, ELSET=SOLID, MATERIAL=STEEL\n\
+         *ELEMENT, TYPE=MASS, ELSET=M\n10, 100\n*MASS, ELSET=M\n2.0\n",
+    );
+    let (m, k) = (2.0, [800.0, 1800.0, 3200.0]);
+    for (d, k) in k.iter().enumerate() {
+        deck.push_str(&format!(
+            "*ELEMENT, TYPE=SPRING1, ELSET=K{0}\n{1}, 100\n*SPRING, ELSET=K{0}\n{0}\n{k:?}\n",
+            d + 1,
+            11 + d
+        ));
+    }
+    deck.push_str("*BOUNDARY\nTET, 1, 3\n*STEP\n*FREQUENCY\n3\n*END STEP\n");
+    let path = out.join("oscillator.inp");
+    std::fs::write(&path, deck).unwrap();
+    let ours = modes(2, &[path.to_str().unwrap()], &out.join("out"));
+    let exact: Vec<f64> = k.iter().map(|k| k / m).collect();
+    assert_close(&ours, &exact, 1e-12, "mass on springs");
+    assert_eq!(ours.len(), 3);
+}
+
 /// The built-in brake written as .msh by `squeal mesh` and read back, with its materials and
 /// supports given on the command line, has the same modes as the built-in model itself: the
 /// writer, the reader and the node-order conversion lose nothing.

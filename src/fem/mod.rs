@@ -5,6 +5,7 @@ pub mod assemble;
 pub mod dofs;
 pub mod element;
 pub mod loads;
+pub mod point_mass;
 pub mod springs;
 pub mod stress;
 pub mod tet10;

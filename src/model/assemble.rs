@@ -1,9 +1,10 @@
 //! A model's PETSc operators: the DOF map (mesh and extra nodes), K with every spring, link and
-//! coupling on a pattern that also holds every contact point's coupling, M and the load
-//! vector. Made at the last moment, from the plain data of [`Model`].
+//! coupling on a pattern that also holds every contact point's coupling, M with the point
+//! masses, and the load vector. Made at the last moment, from the plain data of [`Model`].
 
 use super::Model;
 use crate::fem::element::MassRule;
+use crate::fem::point_mass::add_point_masses;
 use crate::fem::springs::{add_coupling_springs, add_ground_springs, add_two_node_springs};
 use crate::fem::{assemble as fem_assemble, AssemblyError, DofError, DofMap, StructureOptions};
 use crate::petsc::{Comm, Matrix, PetscError, Vector};
@@ -66,6 +67,14 @@ pub fn assemble<'rt>(
     let contact = crate::contact::contact_groups(&model.pairs);
     let couplings: Vec<Vec<usize>> = model.couplings.iter().map(|c| c.nodes()).collect();
     let links: Vec<[usize; 2]> = model.links.iter().map(|l| l.nodes).collect();
+    // A node of a grounded spring or a point mass may be in no element (a deck's mass on a
+    // node of its own): its diagonal block must still be in the pattern.
+    let singles: Vec<[usize; 1]> = model
+        .springs
+        .iter()
+        .map(|s| [s.node])
+        .chain(model.point_masses.iter().map(|p| [p.node]))
+        .collect();
     let pattern = fem_assemble::pattern(
         &dofs,
         mesh.elements
@@ -73,9 +82,10 @@ pub fn assemble<'rt>(
             .map(|c| &c[..])
             .chain(contact.iter().map(|g| &g[..]))
             .chain(couplings.iter().map(|g| &g[..]))
-            .chain(links.iter().map(|g| &g[..])),
+            .chain(links.iter().map(|g| &g[..]))
+            .chain(singles.iter().map(|g| &g[..])),
     );
-    let (mut stiffness, mass) = collective(
+    let (mut stiffness, mut mass) = collective(
         comm,
         fem_assemble::stiffness_and_mass(
             comm,
@@ -86,6 +96,9 @@ pub fn assemble<'rt>(
         ),
     )?;
     add_ground_springs(&mut stiffness, &dofs, &model.springs)?;
+    if !model.point_masses.is_empty() {
+        add_point_masses(&mut mass, &dofs, &model.point_masses)?;
+    }
     if !model.couplings.is_empty() {
         add_coupling_springs(&mut stiffness, &dofs, &model.couplings)?;
     }

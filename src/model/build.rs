@@ -35,17 +35,23 @@ impl Model {
         let mut model = match &spec.mesh.file {
             Some(path) => {
                 let mut m = source::read(path)?;
-                let from_deck =
-                    m.supports.len() + m.pressures.len() + m.forces.len() + m.pairs.len();
+                let discrete = m.springs.len() + m.links.len() + m.point_masses.len();
+                let from_deck = m.supports.len()
+                    + m.pressures.len()
+                    + m.forces.len()
+                    + m.pairs.len()
+                    + discrete;
                 if from_deck > 0 {
                     m.warnings.push(format!(
-                        "{}: kept the deck's {} supports, {} loaded faces, {} nodal forces and \
-                         {} contact pairs{} (the study's tables add to them; a [[contacts]] \
-                         table of a pair's name replaces it)",
+                        "{}: kept the deck's {} supports, {} loaded faces, {} nodal forces, {} \
+                         springs, {} point masses and {} contact pairs{} (the study's tables add \
+                         to them; a [[contacts]] table of a pair's name replaces it)",
                         m.source,
                         m.supports.len(),
                         m.pressures.len(),
                         m.forces.len(),
+                        m.springs.len() + m.links.len(),
+                        m.point_masses.len(),
                         m.pairs.len(),
                         deck_pair_list(&m),
                     ));

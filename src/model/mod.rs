@@ -16,6 +16,7 @@ pub use assemble::{assemble, Operators};
 pub use error::ModelError;
 
 use crate::contact::ContactPair;
+use crate::fem::point_mass::PointMass;
 use crate::fem::springs::{CouplingSpring, GroundSpring, TwoNodeSpring};
 use crate::fem::Support;
 use crate::mesh::{Face, Mesh};
@@ -42,6 +43,8 @@ pub struct Model {
     pub springs: Vec<GroundSpring>,
     /// Springs between two nodes (guide pins, a piston seal).
     pub links: Vec<TwoNodeSpring>,
+    /// Masses concentrated at nodes (a deck's `MASS` elements), on top of the elements' mass.
+    pub point_masses: Vec<PointMass>,
     /// Springs tying a node to a weighted combination of nodes (distributing couplings).
     pub couplings: Vec<CouplingSpring>,
     pub pressures: Vec<Pressure>,
@@ -76,6 +79,16 @@ impl Model {
         } else {
             self.extra_nodes[node - n]
         }
+    }
+
+    /// The nodes that discrete elements (springs, links, point masses) use: with the
+    /// elements' nodes, every node that has a stiffness or a mass.
+    pub fn discrete_nodes(&self) -> impl Iterator<Item = usize> + '_ {
+        self.springs
+            .iter()
+            .map(|s| s.node)
+            .chain(self.links.iter().flat_map(|l| l.nodes))
+            .chain(self.point_masses.iter().map(|p| p.node))
     }
 
     /// Every loaded face with its pressure.

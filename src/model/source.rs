@@ -3,6 +3,8 @@
 //! command line's `--fix` and `--material`.
 
 use super::{Model, ModelError, Pressure};
+use crate::fem::point_mass::PointMass;
+use crate::fem::springs::{GroundSpring, TwoNodeSpring};
 use crate::fem::Support;
 use crate::io::{abaqus, gmsh};
 use crate::mesh::{brake, Material, Mesh};
@@ -49,7 +51,7 @@ pub fn builtin(preset: &str) -> Result<Model, ModelError> {
 /// the contact pairs: [`super::deck_contact`]).
 pub fn read(path: &Path) -> Result<Model, ModelError> {
     let model = read_format(path)?;
-    check_elements(path, &model.mesh)?;
+    check_elements(path, &model.mesh, model.discrete_nodes())?;
     Ok(model)
 }
 
@@ -58,8 +60,14 @@ const NODE_EXAMPLES: usize = 5;
 
 /// Refuses a mesh file without elements, or with nodes no element uses: both parse, and
 /// both used to end in a raw solver error (SLEPc's "Illegal value of nev", MUMPS's
-/// singular-matrix code) or in `squeal mesh` naming its output instead of its input.
-fn check_elements(path: &Path, mesh: &Mesh) -> Result<(), ModelError> {
+/// singular-matrix code) or in `squeal mesh` naming its output instead of its input. A node
+/// that only a deck's spring or point mass uses (a spring's grounded end held by
+/// `*BOUNDARY`, a mass of its own) is used: `discrete` lists those nodes.
+fn check_elements(
+    path: &Path,
+    mesh: &Mesh,
+    discrete: impl Iterator<Item = usize>,
+) -> Result<(), ModelError> {
     if mesh.elements.is_empty() {
         return Err(ModelError::NoElements {
             file: path.to_path_buf(),
@@ -71,6 +79,9 @@ fn check_elements(path: &Path, mesh: &Mesh) -> Result<(), ModelError> {
         for &n in element {
             used[n] = true;
         }
+    }
+    for n in discrete {
+        used[n] = true;
     }
     let unused: Vec<usize> = (0..used.len()).filter(|&n| !used[n]).collect();
     if unused.is_empty() {
@@ -168,8 +179,19 @@ fn from_deck(path: &Path, deck: abaqus::Deck) -> Result<Model, ModelError> {
             abaqus::SlaveSurface::Nodes { .. } => None,
         })
         .collect();
+    let (springs, links) = deck_springs(&deck);
     Ok(Model {
         source: path.display().to_string(),
+        springs,
+        links,
+        point_masses: deck
+            .point_masses
+            .iter()
+            .map(|p| PointMass {
+                node: p.node,
+                mass: p.mass,
+            })
+            .collect(),
         swept: vec![false; pairs.len()],
         pairs,
         pair_surfaces,
@@ -186,6 +208,28 @@ fn from_deck(path: &Path, deck: abaqus::Deck) -> Result<Model, ModelError> {
         mesh: deck.mesh,
         ..Default::default()
     })
+}
+
+/// A deck's springs: SPRING1 to ground, SPRING2 and SPRINGA between their two nodes (the
+/// reader gave each its unit direction).
+fn deck_springs(deck: &abaqus::Deck) -> (Vec<GroundSpring>, Vec<TwoNodeSpring>) {
+    let mut grounded = Vec::new();
+    let mut links = Vec::new();
+    for s in &deck.springs {
+        match s.ends {
+            abaqus::SpringEnds::Ground(node) => grounded.push(GroundSpring {
+                node,
+                direction: s.direction,
+                stiffness: s.stiffness,
+            }),
+            abaqus::SpringEnds::Nodes(nodes) => links.push(TwoNodeSpring {
+                nodes,
+                direction: s.direction,
+                stiffness: s.stiffness,
+            }),
+        }
+    }
+    (grounded, links)
 }
 
 /// Applies `--fix SET[:xyz]` (components default to all three).
@@ -314,17 +358,24 @@ mod tests {
     fn mesh_files_without_elements_or_with_nodes_in_none_are_refused() {
         let file = Path::new("deck.inp");
         let mut mesh = block([0.0; 3], [1.0; 3], [1, 1, 1], steel()).unwrap();
-        check_elements(file, &mesh).unwrap();
+        check_elements(file, &mesh, std::iter::empty()).unwrap();
         mesh.nodes.push([9.0, 8.0, 7.0]);
         mesh.node_labels.push(9999);
-        let e = check_elements(file, &mesh).unwrap_err().to_string();
+        let extra = mesh.nodes.len() - 1;
+        // A node a spring or a point mass uses is used.
+        check_elements(file, &mesh, std::iter::once(extra)).unwrap();
+        let e = check_elements(file, &mesh, std::iter::empty())
+            .unwrap_err()
+            .to_string();
         assert!(
             e.starts_with("deck.inp: 1 node(s) belong to no element")
                 && e.contains("9999: 9.000000e0, 8.000000e0, 7.000000e0"),
             "{e}"
         );
         mesh.elements.clear();
-        let e = check_elements(file, &mesh).unwrap_err().to_string();
+        let e = check_elements(file, &mesh, std::iter::once(extra))
+            .unwrap_err()
+            .to_string();
         assert!(e.starts_with("deck.inp: the mesh has no elements"), "{e}");
     }
 

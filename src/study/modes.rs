@@ -6,7 +6,7 @@ use super::staging::staged;
 use super::StudyError;
 use crate::analysis::modes::{real_modes, ModeBand, ModesOptions, RealMode};
 use crate::analysis::restraint;
-use crate::fem::{assemble, element::MassRule, DofMap, StructureOptions};
+use crate::fem::{element::MassRule, DofMap};
 use crate::io::vtu::{Field, VtuWriter};
 use crate::model::{source, Model, ModelError};
 use crate::petsc::Runtime;
@@ -179,20 +179,15 @@ fn solve_and_write(
         );
     }
     let t = Instant::now();
-    let pattern = assemble::pattern(&dofs, mesh.elements.iter().map(|c| &c[..]));
-    let options = StructureOptions {
-        mass_rule: args.mass_rule,
-    };
-    let (k, m) = collective(
-        comm,
-        assemble::stiffness_and_mass(comm, mesh, &dofs, &pattern, options),
-    )?;
+    // The model's own operators: its springs, links and point masses (a deck's SPRING and
+    // MASS elements) are in K and M, as in the sweep.
+    let crate::model::Operators {
+        stiffness: k,
+        mass: m,
+        ..
+    } = crate::model::assemble(comm, &model, args.mass_rule)?;
     if root {
-        tracing::info!(
-            "assembled K and M in {:.2} s ({} nonzeros on rank 0)",
-            t.elapsed().as_secs_f64(),
-            pattern.nonzeros()
-        );
+        tracing::info!("assembled K and M in {:.2} s", t.elapsed().as_secs_f64());
     }
     // The bodies' free motions (6 per unsupported body, fewer when partly held) say how
     // many rigid-body modes to expect; the eigenvalues' own gap confirms it.

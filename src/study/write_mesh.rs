@@ -46,6 +46,17 @@ fn write(model: &Model, msh: &Path, vtu: &Path) -> Result<(), StudyError> {
         .point_field(&surfaces)
         .write(vtu)?;
     println!("{}", describe(&model.mesh, &model.source));
+    // A .msh holds elements and groups only: a deck's springs and point masses stay behind,
+    // and the nodes only they used are written in no element (reading the .msh back
+    // refuses them).
+    let springs = model.springs.len() + model.links.len();
+    if springs + model.point_masses.len() > 0 {
+        println!(
+            "not written: the deck's {springs} spring(s) and {} point mass(es) (a .msh holds \
+             no discrete elements)",
+            model.point_masses.len()
+        );
+    }
     println!("wrote {} and {}", msh.display(), vtu.display());
     Ok(())
 }

@@ -235,6 +235,64 @@ pub(super) struct ContactPairDraft {
     pub(super) loc: Loc,
 }
 
+/// The discrete element types read (`*ELEMENT, TYPE=`): springs and point masses, whose
+/// stiffness or mass comes from a `*SPRING` or `*MASS` on their element set.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum DiscreteKind {
+    Spring1,
+    Spring2,
+    SpringA,
+    Mass,
+}
+
+impl DiscreteKind {
+    /// The kind of an upper-case element type, `None` for any other type.
+    pub(super) fn from_type(upper: &str) -> Option<DiscreteKind> {
+        Some(match upper {
+            "SPRING1" => DiscreteKind::Spring1,
+            "SPRING2" => DiscreteKind::Spring2,
+            "SPRINGA" => DiscreteKind::SpringA,
+            "MASS" => DiscreteKind::Mass,
+            _ => return None,
+        })
+    }
+
+    pub(super) fn name(self) -> &'static str {
+        match self {
+            DiscreteKind::Spring1 => "SPRING1",
+            DiscreteKind::Spring2 => "SPRING2",
+            DiscreteKind::SpringA => "SPRINGA",
+            DiscreteKind::Mass => "MASS",
+        }
+    }
+
+    pub(super) fn node_count(self) -> usize {
+        match self {
+            DiscreteKind::Spring1 | DiscreteKind::Mass => 1,
+            DiscreteKind::Spring2 | DiscreteKind::SpringA => 2,
+        }
+    }
+}
+
+/// One discrete element line: `label, node[, node]`.
+pub(super) struct DiscreteDraft {
+    pub(super) kind: DiscreteKind,
+    pub(super) label: i64,
+    pub(super) nodes: Vec<i64>,
+    pub(super) loc: Loc,
+}
+
+/// A `*SPRING` or `*MASS` as said: its element set and its data lines, kept as text because
+/// what they mean (a DOF line or not) depends on the type of the set's elements, known once
+/// the whole deck is read.
+pub(super) struct PropertyDraft {
+    /// `*SPRING` or `*MASS`.
+    pub(super) keyword: &'static str,
+    pub(super) elset: Name,
+    pub(super) lines: Vec<(String, Loc)>,
+    pub(super) loc: Loc,
+}
+
 pub(super) struct PendingElement {
     pub(super) values: Vec<i64>,
     pub(super) last: Loc,
@@ -256,7 +314,11 @@ pub(super) enum Block {
     },
     Element {
         elset: Option<Name>,
+        /// `None` for C3D10.
+        discrete: Option<DiscreteKind>,
     },
+    /// The data lines of `*SPRING` / `*MASS`: the index of its [`PropertyDraft`].
+    Property(usize),
     NodeSet {
         name: Name,
         generate: bool,

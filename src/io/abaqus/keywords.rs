@@ -139,6 +139,8 @@ impl Reader {
                 // The optional data line (thickness) means nothing for solids.
                 Block::Skip
             }
+            "SPRING" => self.spring_keyword(&mut kw)?,
+            "MASS" => self.mass_keyword(&mut kw)?,
             "SURFACEINTERACTION" => self.surface_interaction_keyword(&mut kw)?,
             "SURFACEBEHAVIOR" => self.surface_behavior_keyword(&mut kw)?,
             "FRICTION" => self.friction_keyword(&mut kw)?,
@@ -257,6 +259,8 @@ impl Reader {
                 | "ELASTIC"
                 | "DENSITY"
                 | "SOLIDSECTION"
+                | "SPRING"
+                | "MASS"
                 | "SURFACEINTERACTION"
                 | "SURFACEBEHAVIOR"
                 | "FRICTION"
@@ -386,13 +390,17 @@ impl Reader {
         self.model_only(kw)?;
         let written = self.required(kw, "TYPE")?;
         let kind = written.to_uppercase();
-        if kind != "C3D10" {
+        let discrete = DiscreteKind::from_type(&kind);
+        if kind != "C3D10" && discrete.is_none() {
             if C3D10_VARIANTS.contains(&kind.as_str()) {
                 self.variant_types.add(&kind, kw.loc);
             } else {
                 return Err(self.err(
                     kw.loc,
-                    format!("element type {written} is not supported (squeal needs C3D10)"),
+                    format!(
+                        "element type {written} is not supported (squeal reads C3D10 solids and \
+                         the discrete SPRING1, SPRING2, SPRINGA and MASS)"
+                    ),
                 ));
             }
         }
@@ -402,7 +410,7 @@ impl Reader {
                 .entry(name.canon.clone())
                 .or_insert_with(|| SetDraft::new(&name.written));
         }
-        Ok(Block::Element { elset })
+        Ok(Block::Element { elset, discrete })
     }
 
     fn node_set_keyword(&mut self, kw: &mut Keyword) -> Result<Block, MeshError> {
@@ -427,6 +435,24 @@ impl Reader {
                     ),
                 ));
             };
+            // The discrete elements defined by now hold nodes too.
+            let discrete = set
+                .members()
+                .iter()
+                .filter_map(|m| self.discrete_index.get(&m.label).copied())
+                .chain(
+                    set.ranges()
+                        .iter()
+                        .flat_map(|r| r.existing(&self.discrete_index)),
+                );
+            for d in discrete {
+                for &label in &self.discrete[d].nodes {
+                    members.add(Member {
+                        label,
+                        loc: self.discrete[d].loc,
+                    });
+                }
+            }
             // The elements defined by now: listed, or in a GENERATE range.
             let listed = set
                 .members()
@@ -727,7 +753,10 @@ mod tests {
             assert_eq!(line, 2);
             assert_eq!(
                 message,
-                format!("element type {kind} is not supported (squeal needs C3D10)")
+                format!(
+                    "element type {kind} is not supported (squeal reads C3D10 solids and the \
+                     discrete SPRING1, SPRING2, SPRINGA and MASS)"
+                )
             );
         }
     }

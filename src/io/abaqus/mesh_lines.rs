@@ -127,15 +127,7 @@ impl Reader {
                 return Err(self.err(loc, format!("element {label} lists node {n} twice")));
             }
         }
-        if let Some(&first) = self.element_index.get(&label) {
-            return Err(self.err(
-                loc,
-                format!(
-                    "element {label} is defined twice (first at {})",
-                    self.lines.at(self.element_locs[first])
-                ),
-            ));
-        }
+        self.check_new_element_label(label, loc)?;
         self.element_index.insert(label, self.elements.len());
         self.elements.push(nodes);
         self.element_labels.push(label);

@@ -8,7 +8,10 @@
 //! | `*HEADING` | [`Deck::heading`] |
 //! | `*INCLUDE, INPUT=` | the file's lines, in place (path relative to the including file; nests) |
 //! | `*NODE` (`NSET=`) | nodes; `SYSTEM=` other than `R` is refused |
-//! | `*ELEMENT, TYPE=C3D10` (`ELSET=`) | elements; other types are refused by name |
+//! | `*ELEMENT, TYPE=C3D10` (`ELSET=`) | elements; other types than those below are refused by name |
+//! | `*ELEMENT, TYPE=SPRING1` / `SPRING2` / `SPRINGA` / `MASS` (`ELSET=`) | discrete elements (`label, node[, node]`), labels shared with the solids |
+//! | `*SPRING, ELSET=` (linear; DOF line for SPRING1/SPRING2, blank for SPRINGA; one stiffness line) | [`Deck::springs`]: SPRING1 to ground along e_i, SPRING2 (DOFs i, i) along e_i, SPRINGA along the nodes' line |
+//! | `*MASS, ELSET=` (isotropic) | [`Deck::point_masses`] |
 //! | `*NSET` / `*ELSET` (`GENERATE`, set names in data, `*NSET, ELSET=`) | node / element sets |
 //! | `*SURFACE, TYPE=ELEMENT` / `TYPE=NODE` | [`Mesh::surfaces`] / a node set listed in [`Deck::node_surfaces`] |
 //! | `*MATERIAL, NAME=`, `*ELASTIC` (isotropic), `*DENSITY` | [`Mesh::materials`] |
@@ -38,6 +41,10 @@
 //!   members are copied, as Abaqus does. Every other name (in `*SOLID SECTION`, element-based
 //!   `*SURFACE`, loads, supports) is looked up in the complete model, and an unknown one is an
 //!   error at the line that names it. Repeating `*NSET`/`*ELSET` with one name adds to the set.
+//! - Solid and discrete elements share one label space and may share element sets;
+//!   [`Deck::element_sets`] keeps a set's solids. A `*SOLID SECTION` on a set holding
+//!   discrete elements, and a `*SPRING` or `*MASS` on one holding solids (or other discrete
+//!   types), are refused at their line; every discrete element needs its `*SPRING`/`*MASS`.
 //! - Labels written explicitly in a set must exist; labels produced by `GENERATE` that no node
 //!   or element carries are left out with a warning (ranges over gappy numbering are common).
 //! - DOFs are Abaqus' 1-based numbers in the raw records ([`Boundary::first_dof`]); DOFs 4-6
@@ -71,11 +78,13 @@
 //! `lines.rs` (the deck's lines with includes), `lexer.rs` (keyword lines and fields),
 //! `reader.rs` (the reader's state and line loop), `keywords.rs` (what each keyword starts),
 //! `mesh_lines.rs`, `material_lines.rs`, `procedure_lines.rs` and `load_lines.rs` (data lines
-//! by keyword family), `contact_lines.rs` (the contact keywords, read and resolved), `drafts.rs` (what was said, unresolved), `resolve.rs` (labels and names
+//! by keyword family), `discrete_lines.rs` (springs and point masses, read and resolved),
+//! `contact_lines.rs` (the contact keywords, read and resolved), `drafts.rs` (what was said, unresolved), `resolve.rs` (labels and names
 //! to the model), `records.rs` (the public records) and `steps.rs` (what is in force in a
 //! step).
 
 mod contact_lines;
+mod discrete_lines;
 mod drafts;
 mod keywords;
 mod lexer;
@@ -97,9 +106,9 @@ use std::path::Path;
 use crate::mesh::{Mesh, MeshError};
 use reader::Reader;
 pub use records::{
-    Boundary, ConcentratedLoad, DeckContactPair, FrequencyRequest, NodeTarget, NormalBehavior,
-    PressureLoad, PressureTarget, Procedure, Replaced, SlaveSurface, SourceLine, StaticRequest,
-    Step, SurfaceInteraction,
+    Boundary, ConcentratedLoad, DeckContactPair, DeckMass, DeckSpring, FrequencyRequest,
+    NodeTarget, NormalBehavior, PressureLoad, PressureTarget, Procedure, Replaced, SlaveSurface,
+    SourceLine, SpringEnds, StaticRequest, Step, SurfaceInteraction,
 };
 pub use steps::Loading;
 
@@ -111,8 +120,13 @@ pub struct Deck {
     pub mesh: Mesh,
     /// The `*HEADING` data lines, joined by newlines.
     pub heading: String,
-    /// Element sets (internal element indices, sorted, unique).
+    /// Element sets: their C3D10 elements (internal element indices, sorted, unique); the
+    /// discrete elements of a set are in [`Deck::springs`] and [`Deck::point_masses`].
     pub element_sets: BTreeMap<String, Vec<usize>>,
+    /// `SPRING1`, `SPRING2` and `SPRINGA` elements with their `*SPRING` stiffness.
+    pub springs: Vec<DeckSpring>,
+    /// `MASS` elements with their `*MASS`.
+    pub point_masses: Vec<DeckMass>,
     /// Names of `*SURFACE, TYPE=NODE` surfaces; each is also in [`Mesh::node_sets`].
     pub node_surfaces: BTreeSet<String>,
     /// Model-data supports (outside any step).

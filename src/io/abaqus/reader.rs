@@ -24,6 +24,11 @@ pub(super) struct Reader {
     pub(super) element_locs: Vec<Loc>,
     pub(super) element_index: HashMap<i64, usize>,
     pub(super) pending: Option<PendingElement>,
+    /// Springs and point masses; their labels share [`Reader::element_index`]'s space.
+    pub(super) discrete: Vec<DiscreteDraft>,
+    pub(super) discrete_index: HashMap<i64, usize>,
+    /// `*SPRING` and `*MASS` keywords.
+    pub(super) properties: Vec<PropertyDraft>,
 
     pub(super) node_sets: BTreeMap<String, SetDraft>,
     pub(super) element_sets: BTreeMap<String, SetDraft>,
@@ -69,6 +74,9 @@ impl Reader {
             element_locs: Vec::new(),
             element_index: HashMap::new(),
             pending: None,
+            discrete: Vec::new(),
+            discrete_index: HashMap::new(),
+            properties: Vec::new(),
             node_sets: BTreeMap::new(),
             element_sets: BTreeMap::new(),
             surfaces: BTreeMap::new(),
@@ -205,7 +213,22 @@ impl Reader {
                 Ok(())
             }
             Block::Node { nset } => self.node_line(nset.as_ref(), text, loc),
-            Block::Element { elset } => self.element_line(elset.as_ref(), text, loc),
+            Block::Element {
+                elset,
+                discrete: None,
+            } => self.element_line(elset.as_ref(), text, loc),
+            Block::Element {
+                elset,
+                discrete: Some(kind),
+            } => {
+                let kind = *kind;
+                self.discrete_line(kind, elset.as_ref(), text, loc)
+            }
+            Block::Property(index) => {
+                let index = *index;
+                self.properties[index].lines.push((text.to_string(), loc));
+                Ok(())
+            }
             Block::NodeSet { name, generate } => {
                 let generate = *generate;
                 self.set_line(true, name, generate, text, loc)

@@ -197,3 +197,42 @@ pub struct DeckContactPair {
     pub adjust: Option<f64>,
     pub source: SourceLine,
 }
+
+/// Where a discrete spring's ends are.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SpringEnds {
+    /// `SPRING1`: a node (internal index) tied to the ground.
+    Ground(usize),
+    /// `SPRING2` and `SPRINGA`: two nodes (internal indices), in the element's order.
+    Nodes([usize; 2]),
+}
+
+/// A `SPRING1`, `SPRING2` or `SPRINGA` element with the stiffness of its `*SPRING`: a
+/// linear spring along one fixed direction.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DeckSpring {
+    /// The element's label in the file.
+    pub label: i64,
+    /// `SPRING1`, `SPRING2` or `SPRINGA`.
+    pub element_type: &'static str,
+    pub ends: SpringEnds,
+    /// Unit direction: the axis of the `*SPRING` DOF (SPRING1, SPRING2), or from the first
+    /// node to the second in the initial configuration (SPRINGA).
+    pub direction: [f64; 3],
+    /// Force per displacement along `direction`.
+    pub stiffness: f64,
+    /// The element's line.
+    pub source: SourceLine,
+}
+
+/// A `MASS` element with the mass of its `*MASS`: a point mass on the translations of a
+/// node.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DeckMass {
+    pub label: i64,
+    /// Internal node index.
+    pub node: usize,
+    pub mass: f64,
+    /// The element's line.
+    pub source: SourceLine,
+}

@@ -38,11 +38,17 @@ impl Reader {
             ..Default::default()
         };
 
-        let node_sets = self.resolve_sets(true)?;
-        let element_sets = self.resolve_sets(false)?;
+        let (node_sets, _) = self.resolve_sets(true)?;
+        let (element_sets, discrete_sets) = self.resolve_sets(false)?;
         mesh.node_sets = node_sets;
 
-        self.make_parts(&mut mesh, &element_sets)?;
+        self.make_parts(&mut mesh, &element_sets, &discrete_sets)?;
+        let (springs, point_masses) = self.resolve_discrete(
+            &mesh.nodes,
+            &element_sets,
+            &discrete_sets,
+            &mesh.element_labels,
+        )?;
         self.make_materials(&mut mesh)?;
         self.make_surfaces(&mut mesh, &element_sets)?;
 
@@ -89,6 +95,8 @@ impl Reader {
             mesh,
             heading: self.heading.join("\n"),
             element_sets,
+            springs,
+            point_masses,
             node_surfaces: self.node_surfaces.keys().cloned().collect(),
             boundaries,
             concentrated_loads,
@@ -98,20 +106,35 @@ impl Reader {
         })
     }
 
-    fn resolve_sets(&mut self, of_nodes: bool) -> Result<BTreeMap<String, Vec<usize>>, MeshError> {
+    /// The sets of nodes or of elements, resolved to indices: for elements, the C3D10
+    /// elements and the discrete elements of each set apart (both maps have every set).
+    #[allow(clippy::type_complexity)]
+    fn resolve_sets(
+        &mut self,
+        of_nodes: bool,
+    ) -> Result<(BTreeMap<String, Vec<usize>>, BTreeMap<String, Vec<usize>>), MeshError> {
         let (sets, index, item) = if of_nodes {
             (&self.node_sets, &self.node_index, "node")
         } else {
             (&self.element_sets, &self.element_index, "element")
         };
+        let empty = HashMap::new();
+        let discrete_index = if of_nodes {
+            &empty
+        } else {
+            &self.discrete_index
+        };
         let mut out = BTreeMap::new();
+        let mut discrete_out = BTreeMap::new();
         let mut notes = Vec::new();
         for (canon, set) in sets {
             let mut indices = Vec::with_capacity(set.members().len());
+            let mut discrete = Vec::new();
             for m in set.members() {
-                match index.get(&m.label) {
-                    Some(&i) => indices.push(i),
-                    None => {
+                match (index.get(&m.label), discrete_index.get(&m.label)) {
+                    (Some(&i), _) => indices.push(i),
+                    (None, Some(&d)) => discrete.push(d),
+                    (None, None) => {
                         return Err(self.err(
                             m.loc,
                             format!(
@@ -125,14 +148,18 @@ impl Reader {
             let mut missing: Option<(u64, Loc)> = None;
             for range in set.ranges() {
                 let found = range.existing(index);
-                let absent = range.len() - found.len() as u64;
+                let found_discrete = range.existing(discrete_index);
+                let absent = range.len() - (found.len() + found_discrete.len()) as u64;
                 if absent > 0 {
                     missing.get_or_insert((0, range.loc)).0 += absent;
                 }
                 indices.extend(found);
+                discrete.extend(found_discrete);
             }
             indices.sort_unstable();
             indices.dedup();
+            discrete.sort_unstable();
+            discrete.dedup();
             if let Some((n, loc)) = missing {
                 notes.push(format!(
                     "{item} set {}: {n} label(s) produced by GENERATE (first range at {}) are \
@@ -142,15 +169,17 @@ impl Reader {
                 ));
             }
             out.insert(canon.clone(), indices);
+            discrete_out.insert(canon.clone(), discrete);
         }
         self.warnings.extend(notes);
-        Ok(out)
+        Ok((out, discrete_out))
     }
 
     fn make_parts(
         &self,
         mesh: &mut Mesh,
         element_sets: &BTreeMap<String, Vec<usize>>,
+        discrete_sets: &BTreeMap<String, Vec<usize>>,
     ) -> Result<(), MeshError> {
         let mut owner: Vec<Option<usize>> = vec![None; mesh.elements.len()];
         for (s, section) in self.sections.iter().enumerate() {
@@ -163,6 +192,23 @@ impl Reader {
                     ),
                 ));
             };
+            // A spring or mass in a solid section would be silently dropped from it.
+            if let Some(&d) = discrete_sets
+                .get(&section.elset.canon)
+                .and_then(|d| d.first())
+            {
+                return Err(self.err(
+                    section.loc,
+                    format!(
+                        "*SOLID SECTION: element set {} holds the {} element {} (a discrete \
+                         element takes *SPRING or *MASS, not a solid section); give the C3D10 \
+                         elements a set of their own",
+                        section.elset.written,
+                        self.discrete[d].kind.name(),
+                        self.discrete[d].label
+                    ),
+                ));
+            }
             if !self.materials.contains_key(&section.material.canon) {
                 return Err(self.err(
                     section.loc,
@@ -267,7 +313,16 @@ impl Reader {
         match target {
             ElementRef::Element(label) => match self.element_index.get(label) {
                 Some(&e) => Ok(vec![e]),
-                None => Err(self.err(loc, format!("{keyword}: element {label} is not defined"))),
+                None => Err(self.err(
+                    loc,
+                    match self.discrete_index.get(label) {
+                        Some(&d) => format!(
+                            "{keyword}: element {label} is a {} element, which has no faces",
+                            self.discrete[d].kind.name()
+                        ),
+                        None => format!("{keyword}: element {label} is not defined"),
+                    },
+                )),
             },
             ElementRef::Set(name) => element_sets.get(&name.canon).cloned().ok_or_else(|| {
                 self.err(
