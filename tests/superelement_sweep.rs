@@ -431,6 +431,28 @@ contact_nodes_per_pad = 6
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// A sweep of the tiny floating caliper's reduced interface (22 nodes per pad, 0-4 kHz) on 2
+/// ranks, into `out`; `extra` picks the super-elements.
+fn caliper_sweep(out: &Path, friction: &str, extra: &[&str]) -> serde_json::Value {
+    let mut args = vec![
+        "sweep",
+        "--preset",
+        "tiny-caliper",
+        "--friction",
+        friction,
+        "--fmax",
+        "4000",
+        "--contact-nodes-per-pad",
+        "22",
+        "-q",
+        "-o",
+        out.to_str().unwrap(),
+    ];
+    args.extend_from_slice(extra);
+    success(2, &args);
+    sweep_json(out)
+}
+
 /// The floating-caliper brake: its kept contacts (piston, fingers, abutments) are Coulomb
 /// pairs, most points slipping at mu 0.5, so K_II is unsymmetric with an indefinite
 /// symmetric part and the kept contacts' linearisation has a constant part (slip forces,
@@ -442,23 +464,7 @@ contact_nodes_per_pad = 6
 fn a_floating_caliper_superelement_holds_its_equilibrium_and_the_instabilities() {
     let dir = scratch("caliper");
     let run = |name: &str, extra: &[&str]| {
-        let out = dir.join(name);
-        let mut args = vec![
-            "sweep",
-            "--preset",
-            "tiny-caliper",
-            "--friction",
-            "0.5",
-            "--fmax",
-            "4000",
-            "--contact-nodes-per-pad",
-            "22",
-            "-o",
-            out.to_str().unwrap(),
-        ];
-        args.extend_from_slice(extra);
-        success(2, &args);
-        sweep_json(&out)["points"][0].clone()
+        caliper_sweep(&dir.join(name), "0.5", extra)["points"][0].clone()
     };
     let reference = run("reduced", &[]);
     let se = run("se", &["--superelements", "per-friction"]);
@@ -507,26 +513,7 @@ fn a_floating_caliper_superelement_holds_its_equilibrium_and_the_instabilities()
 #[test]
 fn a_reused_superelement_carries_this_frictions_tangent() {
     let dir = scratch("reproject");
-    let run = |name: &str, extra: &[&str]| {
-        let out = dir.join(name);
-        let mut args = vec![
-            "sweep",
-            "--preset",
-            "tiny-caliper",
-            "--friction",
-            "0.7,0.8,0.9",
-            "--fmax",
-            "4000",
-            "--contact-nodes-per-pad",
-            "22",
-            "-q",
-            "-o",
-            out.to_str().unwrap(),
-        ];
-        args.extend_from_slice(extra);
-        success(2, &args);
-        sweep_json(&out)
-    };
+    let run = |name: &str, extra: &[&str]| caliper_sweep(&dir.join(name), "0.7,0.8,0.9", extra);
     let reference = run("reduced", &[]);
     let adaptive = run("adaptive", &["--superelements", "adaptive"]);
     let points = adaptive["points"].as_array().unwrap();
