@@ -410,9 +410,11 @@ pub fn solve<'rt>(
     let mut halvings = 0;
     let mut slip = problem.slip.clone();
     let mut slip_before = slip.clone();
+    // A fallback that is the primary search again would only repeat the failure.
     let fallback = options
         .fallback_line_search
         .as_ref()
+        .filter(|l| **l != options.newton.line_search)
         .map(|l| NewtonOptions {
             line_search: l.clone(),
             ..options.newton.clone()
