@@ -3,8 +3,9 @@
 //! wrote (METHOD.md section 8; the paper's eqs. 12-14, Tables 4-7).
 //!
 //! Each instability of the reference (an unstable track and the partner it coupled with) is
-//! paired with the other model's instability of nearest frequency where both are unstable
-//! (within [`MATCH_TOLERANCE`]). For a paired instability and each friction value mu_j both
+//! paired with one of the other model's instabilities within [`MATCH_TOLERANCE`] in
+//! frequency, preferring those unstable at the same friction values (see
+//! [`match_instabilities`]). For a paired instability and each friction value mu_j both
 //! sweeps share, the two modes of each pair are matched lower to lower and the error is
 //! e_j = sum_i |f_other(j, i) - f_ref(j, i)| / f_ref(j, i) (eq. 12's summand); the mean over
 //! the M shared values is eq. 12, the smallest and largest are eqs. 13-14. The real parts
@@ -12,10 +13,10 @@
 //! reference's largest real part. Instabilities one model has and the other has not are
 //! listed both ways. Errors are fractions (0.01 is 1 %).
 //!
-//! Among the other model's instabilities within [`MATCH_TOLERANCE`] in frequency, the one
-//! whose unstable mode shape is most alike (complex MAC on the pad surface nodes both models
-//! share, at the reference's mu of largest real part, from the folders' contact.json) is
-//! taken; without shapes, the nearest in frequency.
+//! Among the other model's instabilities within [`MATCH_TOLERANCE`] in frequency and unstable
+//! at the nearest friction values, the one whose unstable mode shape is most alike (complex
+//! MAC on the pad surface nodes both models share, at the reference's mu of largest real
+//! part, from the folders' contact.json) is taken; without shapes, the nearest in frequency.
 
 use crate::study::report::write_atomically;
 use std::path::{Path, PathBuf};
@@ -49,6 +50,15 @@ pub enum CompareError {
 struct Mode {
     frequency_hz: f64,
     real_part: f64,
+    /// The CEA's flag (older folders: a positive real part).
+    #[serde(default)]
+    unstable: Option<bool>,
+}
+
+impl Mode {
+    fn is_unstable(&self) -> bool {
+        self.unstable.unwrap_or(self.real_part > 0.0)
+    }
 }
 
 #[derive(Clone, Debug, serde::Deserialize)]
@@ -507,6 +517,89 @@ fn reference_curves(
     lines
 }
 
+/// The friction values at which an instability's own modes (its track or its partner)
+/// are flagged unstable.
+fn unstable_friction(s: &Sweep, i: &InstabilityRecord) -> Vec<f64> {
+    (0..s.points.len())
+        .filter(|&k| {
+            pair_indices(s, i, k).is_some_and(|idx| {
+                idx.iter().any(|&n| {
+                    s.points[k]
+                        .eigenvalues
+                        .get(n)
+                        .is_some_and(Mode::is_unstable)
+                })
+            })
+        })
+        .map(|k| s.points[k].friction)
+        .collect()
+}
+
+/// How far apart in mu two instabilities are unstable: 0 when they are unstable at a common
+/// friction value, else the smallest distance between their unstable values (infinite when
+/// either has none on record).
+fn friction_gap(a: &[f64], b: &[f64]) -> f64 {
+    let mut gap = f64::INFINITY;
+    for x in a {
+        for y in b {
+            let d = (x - y).abs();
+            gap = gap.min(if d <= 1e-9 * x.abs().max(1.0) { 0.0 } else { d });
+        }
+    }
+    gap
+}
+
+/// Which of the other model's instabilities stands for each of the reference's: (index,
+/// relative frequency distance, MAC), or `None` when none is within [`MATCH_TOLERANCE`].
+///
+/// The assignment is made over all pairs at once, not reference by reference: the candidate
+/// pairs are taken in order of how far apart in mu they are unstable (nearest first: an
+/// instability at mu 0.1 only and one from 0.5 up are different instabilities even 2 % apart
+/// in frequency), then of shape likeness (complex MAC, when both folders hold the shapes) or
+/// frequency distance, and each instability is used once. Taking the reference's
+/// instabilities one by one in their order let a mu 0.1 instability at 5377 Hz take the other
+/// model's 5259 Hz instability of mu 0.5-0.9 and leave the reference's 5236 Hz instability
+/// of those same values "missed".
+fn match_instabilities(
+    reference: &Path,
+    r: &Sweep,
+    other: &Path,
+    o: &Sweep,
+) -> Vec<Option<(usize, f64, Option<f64>)>> {
+    let unstable_o: Vec<Vec<f64>> = o
+        .instabilities
+        .iter()
+        .map(|oi| unstable_friction(o, oi))
+        .collect();
+    // (reference index, other index, mu gap, frequency distance, MAC)
+    let mut candidates: Vec<(usize, usize, f64, f64, Option<f64>)> = Vec::new();
+    for (a, ri) in r.instabilities.iter().enumerate() {
+        let unstable_r = unstable_friction(r, ri);
+        for (b, oi) in o.instabilities.iter().enumerate() {
+            let d = relative(oi.frequency_hz_at_max, ri.frequency_hz_at_max);
+            if d < MATCH_TOLERANCE {
+                let gap = friction_gap(&unstable_r, &unstable_o[b]);
+                candidates.push((a, b, gap, d, instability_mac(reference, ri, other, oi)));
+            }
+        }
+    }
+    candidates.sort_by(|x, y| {
+        x.2.total_cmp(&y.2).then_with(|| match (x.4, y.4) {
+            (Some(p), Some(q)) => q.total_cmp(&p),
+            _ => x.3.total_cmp(&y.3),
+        })
+    });
+    let mut matches = vec![None; r.instabilities.len()];
+    let mut used = vec![false; o.instabilities.len()];
+    for (a, b, _, d, mac) in candidates {
+        if matches[a].is_none() && !used[b] {
+            matches[a] = Some((b, d, mac));
+            used[b] = true;
+        }
+    }
+    matches
+}
+
 fn relative(a: f64, b: f64) -> f64 {
     (a - b).abs() / b.abs().max(f64::MIN_POSITIVE)
 }
@@ -551,30 +644,11 @@ pub fn compare(reference: &Path, others: &[PathBuf]) -> Result<Comparison, Compa
         for &(k, _) in &shared {
             statics.extend(compare_statics(reference, dir, r.points[k].friction));
         }
+        let matches = match_instabilities(reference, &r, dir, &o);
         let mut used = vec![false; o.instabilities.len()];
-        for ri in &r.instabilities {
+        for (ri, best) in r.instabilities.iter().zip(&matches) {
             let f_ref = ri.frequency_hz_at_max;
-            // Candidates near in frequency; among them the most alike in shape when both
-            // folders hold the shapes, else the nearest in frequency.
-            let candidates: Vec<(usize, f64, Option<f64>)> = o
-                .instabilities
-                .iter()
-                .enumerate()
-                .filter(|(n, _)| !used[*n])
-                .map(|(n, oi)| (n, relative(oi.frequency_hz_at_max, f_ref)))
-                .filter(|&(_, d)| d < MATCH_TOLERANCE)
-                .map(|(n, d)| {
-                    let oi = &o.instabilities[n];
-                    (n, d, instability_mac(reference, ri, dir, oi))
-                })
-                .collect();
-            let best = candidates
-                .iter()
-                .max_by(|a, b| match (a.2, b.2) {
-                    (Some(x), Some(y)) => x.total_cmp(&y),
-                    _ => b.1.total_cmp(&a.1),
-                })
-                .map(|&(n, d, mac)| (n, d, mac));
+            let best = *best;
             let mut entry = InstabilityComparison {
                 reference_frequency_hz: f_ref,
                 reference_onset_mu: ri.onset_mu,
@@ -1084,6 +1158,107 @@ mod tests {
         assert!(!c.instabilities[0].matched && c.instabilities[0].mean_error.is_none());
         assert_eq!(c.extra.len(), 1);
         assert!(c.markdown().contains("**missed**"));
+    }
+
+    /// The medium caliper's case: the reference has a 5377 Hz instability at mu 0.1 only and
+    /// a 5236 Hz one at mu 0.2-0.3; the other model has one instability, at 5259 Hz and mu
+    /// 0.2-0.3. Both reference instabilities are within the frequency tolerance of it, and
+    /// the first in the reference's order is the 5377 Hz one: the match must go to the
+    /// instability unstable at the same friction values, and the 5377 Hz one is missed.
+    #[test]
+    fn instabilities_are_matched_where_they_are_unstable() {
+        let root = tempfile::tempdir().unwrap();
+        let (r, o) = (root.path().join("ref"), root.path().join("other"));
+        // Per mu, (frequency, real part) of four modes; tracks k = mode k at every point.
+        let sweep = |dir: &Path, modes: [[(f64, f64); 4]; 3], instabilities: serde_json::Value| {
+            let points: Vec<serde_json::Value> = modes
+                .iter()
+                .enumerate()
+                .map(|(k, m)| {
+                    let list: Vec<serde_json::Value> = m
+                        .iter()
+                        .map(|&(f, a)| {
+                            serde_json::json!({"frequency_hz": f, "real_part": a, "unstable": a > 0.0})
+                        })
+                        .collect();
+                    serde_json::json!({"friction": 0.1 * (k + 1) as f64, "eigenvalues": list})
+                })
+                .collect();
+            let doc = serde_json::json!({
+                "model": {"source": "test", "equations": 10},
+                "points": points,
+                "tracks": (0..4).map(|t| serde_json::json!({"id": t, "members": [t, t, t]})).collect::<Vec<_>>(),
+                "instabilities": instabilities
+            });
+            std::fs::create_dir_all(dir).unwrap();
+            std::fs::write(dir.join("sweep.json"), doc.to_string()).unwrap();
+        };
+        let record = |track: usize, f: f64, mu: f64| {
+            serde_json::json!({"track": track, "partner": track - 1, "onset_mu": mu,
+                "max_real_part": 50.0, "frequency_hz_at_max": f, "mu_at_max": mu})
+        };
+        sweep(
+            &r,
+            [
+                [
+                    (5200.0, -1.0),
+                    (5220.0, -1.0),
+                    (5377.0, -50.0),
+                    (5377.0, 50.0),
+                ],
+                [
+                    (5236.0, -40.0),
+                    (5236.0, 40.0),
+                    (5360.0, -1.0),
+                    (5390.0, -1.0),
+                ],
+                [
+                    (5236.0, -50.0),
+                    (5236.0, 50.0),
+                    (5350.0, -1.0),
+                    (5400.0, -1.0),
+                ],
+            ],
+            serde_json::json!([record(3, 5377.0, 0.1), record(1, 5236.0, 0.3)]),
+        );
+        sweep(
+            &o,
+            [
+                [
+                    (5215.0, -1.0),
+                    (5240.0, -1.0),
+                    (5480.0, -1.0),
+                    (5500.0, -1.0),
+                ],
+                [
+                    (5259.0, -40.0),
+                    (5259.0, 40.0),
+                    (5470.0, -1.0),
+                    (5510.0, -1.0),
+                ],
+                [
+                    (5259.0, -50.0),
+                    (5259.0, 50.0),
+                    (5460.0, -1.0),
+                    (5520.0, -1.0),
+                ],
+            ],
+            serde_json::json!([record(1, 5259.0, 0.3)]),
+        );
+        let c = compare(&r, std::slice::from_ref(&o)).unwrap();
+        let by_frequency = |f: f64| {
+            c.instabilities
+                .iter()
+                .find(|i| i.reference_frequency_hz == f)
+                .unwrap()
+        };
+        assert!(!by_frequency(5377.0).matched, "{:?}", c.instabilities);
+        let b = by_frequency(5236.0);
+        assert!(b.matched && b.model_frequency_hz == Some(5259.0), "{b:?}");
+        // At mu 0.2 and 0.3 the pair is 23 Hz off in each mode: e_j = 2 * 23 / 5236.
+        let e = 2.0 * 23.0 / 5236.0;
+        assert!((b.max_error.unwrap() - e).abs() < 1e-12, "{b:?}");
+        assert!(c.extra.is_empty());
     }
 
     /// The patch L2: 0 for two fields with the same force on every patch however it is
