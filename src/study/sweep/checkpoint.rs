@@ -49,10 +49,21 @@ pub struct SuperElementState {
     pub previous_q: Option<Vec<f64>>,
 }
 
+/// An equilibrium on the friction path, as far as predicting the next one needs it.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct PathPoint {
+    pub mu: f64,
+    pub displacement: Vec<[f64; 3]>,
+}
+
 /// Everything a model carries to its next point.
 #[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct ModelCheckpoint {
     /// The last equilibrium the (full or reduced-interface) model solved.
     pub previous: Option<EquilibriumState>,
+    /// The one before it: the next point's warm start is predicted along the two (a
+    /// resumed sweep must predict as the uninterrupted one did to give its numbers).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub earlier: Option<PathPoint>,
     pub superelement: Option<SuperElementState>,
 }

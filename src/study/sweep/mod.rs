@@ -14,7 +14,7 @@ mod output;
 pub mod point_cache;
 mod superelement;
 
-pub use checkpoint::{EquilibriumState, ModelCheckpoint, SuperElementState};
+pub use checkpoint::{EquilibriumState, ModelCheckpoint, PathPoint, SuperElementState};
 pub use full::FullModel;
 pub use output::{ModelInfo, PairReport, SuperElementInfo, SuperElementPoint, SweepPointReport};
 pub use superelement::{SuperElementModel, SuperElementSettings};

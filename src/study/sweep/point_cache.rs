@@ -253,6 +253,10 @@ mod tests {
                 displacement: vec![[1e-7 / 3.0, 0.1 + 0.2, -5e-300]],
                 slip: vec![vec![[1.0 / 7.0, 0.0, 0.0]]],
             }),
+            earlier: Some(super::super::PathPoint {
+                mu: 0.2,
+                displacement: vec![[1e-7 / 7.0, 0.1 + 0.7, 5e-300]],
+            }),
             superelement: None,
         };
         let key = cache.key(&[0.3]);
@@ -270,6 +274,7 @@ mod tests {
         let (a, b) = (cp.previous.unwrap(), checkpoint.previous.unwrap());
         assert_eq!(a.displacement, b.displacement);
         assert_eq!(a.slip, b.slip);
+        assert_eq!(cp.earlier, checkpoint.earlier);
         let out = root.path().join("published");
         cache.publish(&key, &out).unwrap();
         assert_eq!(std::fs::read(out.join("cea.json")).unwrap(), b"{}");

@@ -487,6 +487,7 @@ impl<'rt> FrictionModel<'rt> for SuperElementModel<'rt> {
         let keeps_current = self.settings.strategy != Strategy::PerFriction;
         ModelCheckpoint {
             previous: self.base.previous_state(),
+            earlier: self.base.earlier_state(),
             superelement: Some(SuperElementState {
                 built: self.built,
                 current: self
@@ -527,7 +528,8 @@ impl<'rt> FrictionModel<'rt> for SuperElementModel<'rt> {
         self.interior_modes = state.interior_modes;
         self.built = state.built;
         self.previous_q = state.previous_q.clone();
-        self.base.restore_previous(checkpoint.previous.as_ref())
+        self.base.restore_previous(checkpoint.previous.as_ref())?;
+        self.base.restore_earlier(checkpoint.earlier.as_ref())
     }
 
     fn info(&self) -> ModelInfo {
