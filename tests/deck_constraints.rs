@@ -80,8 +80,7 @@ fn solve_static(rt: &Runtime, model: &Model) -> Result<(StaticSolution, Vec<[f64
         bodies: &[],
         constraints: constraints.as_ref(),
     };
-    let solution =
-        statics::solve(comm, &problem, None, &StaticOptions::default()).map_err(text)?;
+    let solution = statics::solve(comm, &problem, None, &StaticOptions::default()).map_err(text)?;
     let forces = statics::constraint_forces(comm, &problem, &slip, &solution.displacement, 1.0)
         .map_err(text)?;
     Ok((solution, forces))
@@ -147,7 +146,10 @@ fn coupled_block_modes(rt: &Runtime) -> Result<Vec<f64>, String> {
     let comm = rt.world();
     let model = deck("coupled_block.inp")?;
     if model.constraints.len() != 3 {
-        return Err(format!("{} constraints, expected 3", model.constraints.len()));
+        return Err(format!(
+            "{} constraints, expected 3",
+            model.constraints.len()
+        ));
     }
     let ops = model::assemble(comm, &model, MassRule::Exact).map_err(text)?;
     let t = ops.constraints.as_ref().ok_or("no transformation")?;
@@ -168,7 +170,10 @@ fn coupled_block_modes(rt: &Runtime) -> Result<Vec<f64>, String> {
     for (i, (a, b)) in ours.iter().zip(&exact).enumerate() {
         let error = (a - b).abs() / b;
         if rt.world().rank() == 0 {
-            println!("mode {}: omega^2 {a:.12e}, closed form {b:.12e}, relative {error:.2e}", i + 1);
+            println!(
+                "mode {}: omega^2 {a:.12e}, closed form {b:.12e}, relative {error:.2e}",
+                i + 1
+            );
         }
         if error > 1e-6 {
             return Err(format!(
@@ -191,7 +196,10 @@ fn coupled_block_static(rt: &Runtime) -> Result<Vec<f64>, String> {
     let mut out = Vec::new();
     let (k_translation, k_rocking) = springs();
     for (axis, exact) in [
-        (0, 1.0 / k_translation + REFERENCE_HEIGHT.powi(2) / k_rocking),
+        (
+            0,
+            1.0 / k_translation + REFERENCE_HEIGHT.powi(2) / k_rocking,
+        ),
         (2, 1.0 / k_translation),
     ] {
         let mut model = deck("coupled_block.inp")?;
@@ -289,13 +297,17 @@ fn prescribed_bar(rt: &Runtime) -> Result<Vec<f64>, String> {
         }
     }
     if worst > 1e-9 {
-        return Err(format!("the displacement is off the linear field by {worst} of d"));
+        return Err(format!(
+            "the displacement is off the linear field by {worst} of d"
+        ));
     }
     let end = &model.mesh.node_sets["X1"];
     let reaction: f64 = end.iter().map(|&n| forces[n][0]).sum();
     let exact = YOUNG * area * d / length;
     if ((reaction - exact) / exact).abs() > 1e-9 {
-        return Err(format!("reaction {reaction} N at the moved end, E A d / L = {exact} N"));
+        return Err(format!(
+            "reaction {reaction} N at the moved end, E A d / L = {exact} N"
+        ));
     }
     if rt.world().rank() == 0 {
         println!(
@@ -304,7 +316,11 @@ fn prescribed_bar(rt: &Runtime) -> Result<Vec<f64>, String> {
         );
     }
     let tip = end[0];
-    Ok(vec![reaction, solution.displacement[tip][0], worst.max(1e-300)])
+    Ok(vec![
+        reaction,
+        solution.displacement[tip][0],
+        worst.max(1e-300),
+    ])
 }
 
 /// tests/data/prescribed_tube.inp: a 60 degree sector of a tube (r 20..30 mm, 10 mm high)
@@ -350,5 +366,9 @@ fn prescribed_tube(rt: &Runtime) -> Result<Vec<f64>, String> {
             "the in-plane reactions add up to {total:?} (largest nodal one {largest})"
         ));
     }
-    Ok(vec![worst.max(1e-300), largest, solution.displacement[0][0]])
+    Ok(vec![
+        worst.max(1e-300),
+        largest,
+        solution.displacement[0][0],
+    ])
 }

@@ -587,8 +587,7 @@ fn newton<'rt>(
     };
     let residual = Box::new(move |x: &Vector<'rt>, f: &mut Vector<'rt>| {
         // R = K u - lambda F + F_c(u), u = x (or C x + lambda g, and R carried by C^T)
-        let (Some(t), Some(u_full), Some(f_full)) = (constraints, &mut u_full, &mut f_full)
-        else {
+        let (Some(t), Some(u_full), Some(f_full)) = (constraints, &mut u_full, &mut f_full) else {
             k.mult(x, f).map_err(|e| e.to_string())?;
             f.axpy(-load_factor, load).map_err(|e| e.to_string())?;
             let u = node_displacements(x, dofs).map_err(|e| e.to_string())?;

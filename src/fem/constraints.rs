@@ -209,16 +209,17 @@ pub fn resolve(
                 match best {
                     Some((&dof, _)) => dof,
                     None => {
-                        let why = if sum.is_empty() && value.abs() <= NEGLIGIBLE * value.abs().max(1.0) {
-                            "it repeats what supports and earlier constraints already impose \
+                        let why =
+                            if sum.is_empty() && value.abs() <= NEGLIGIBLE * value.abs().max(1.0) {
+                                "it repeats what supports and earlier constraints already impose \
                              on this node"
-                        } else if sum.is_empty() {
-                            "supports and earlier constraints already fix every DOF it \
+                            } else if sum.is_empty() {
+                                "supports and earlier constraints already fix every DOF it \
                              involves, to other values (it contradicts them)"
-                        } else {
-                            "supports and earlier constraints already fix every DOF of this \
+                            } else {
+                                "supports and earlier constraints already fix every DOF of this \
                              node it involves"
-                        };
+                            };
                         return Err(ConstraintError::NothingLeft {
                             at: source.clone(),
                             why: format!("{why} (node {})", labels(node)),
@@ -355,7 +356,10 @@ mod tests {
         )
         .unwrap_err()
         .to_string();
-        assert!(e.starts_with("deck.inp:9") && e.contains("deck.inp:7"), "{e}");
+        assert!(
+            e.starts_with("deck.inp:9") && e.contains("deck.inp:7"),
+            "{e}"
+        );
         assert!(e.contains("DOF 1 of node 1"), "{e}");
         let e = resolve(
             &[equation(&[(0, 0, 0.0), (1, 0, -1.0)], 0.0, "z")],
@@ -372,7 +376,10 @@ mod tests {
             &label,
         )
         .unwrap_err();
-        assert!(matches!(e, ConstraintError::DependentRepeated { .. }), "{e}");
+        assert!(
+            matches!(e, ConstraintError::DependentRepeated { .. }),
+            "{e}"
+        );
         // Fixed at 0.1 then again at 0.2 through a local direction: a contradiction.
         let e = resolve(
             &[

@@ -189,11 +189,14 @@ fn on_one_line(nodes: &[CloudNode], radius: f64) -> bool {
 /// is carried), Abaqus's force distribution with no moment at the reference node. Returns
 /// per cloud node the 3x3 block B_i of `u_ref = sum_i B_i u_i`; `None` when T is singular
 /// (a cloud on one line).
-pub fn reference_motion(nodes: &[CloudNode], reference: [f64; 3]) -> Option<Vec<(usize, [[f64; 3]; 3])>> {
+pub fn reference_motion(
+    nodes: &[CloudNode],
+    reference: [f64; 3],
+) -> Option<Vec<(usize, [[f64; 3]; 3])>> {
     let mut centre = [0.0; 3];
     for c in nodes {
-        for k in 0..3 {
-            centre[k] += c.weight * c.position[k];
+        for (sum, x) in centre.iter_mut().zip(c.position) {
+            *sum += c.weight * x;
         }
     }
     let mut t = [[0.0; 3]; 3];
@@ -247,16 +250,10 @@ fn invert(a: [[f64; 3]; 3], scale: f64) -> Option<[[f64; 3]; 3]> {
         a[r0][c0] * a[r1][c1] - a[r0][c1] * a[r1][c0]
     };
     let det = a[0][0] * c(0, 0) + a[0][1] * c(0, 1) + a[0][2] * c(0, 2);
-    if !(det.abs() > 1e-12 * scale.powi(3)) {
+    if det.is_nan() || det.abs() <= 1e-12 * scale.powi(3) {
         return None;
     }
-    let mut inv = [[0.0; 3]; 3];
-    for i in 0..3 {
-        for j in 0..3 {
-            inv[i][j] = c(j, i) / det;
-        }
-    }
-    Some(inv)
+    Some([0, 1, 2].map(|i| [0, 1, 2].map(|j| c(j, i) / det)))
 }
 
 #[cfg(test)]
@@ -326,9 +323,18 @@ mod tests {
         let uniform = weigh(&candidates, reference, Radius::Farthest, Weighting::Uniform).unwrap();
         assert_eq!(uniform.len(), candidates.len());
         let linear = weigh(&candidates, reference, Radius::Farthest, Weighting::Linear).unwrap();
-        assert_eq!(linear.len(), candidates.len() - 1, "the farthest, at r = R, weighs 0");
+        assert_eq!(
+            linear.len(),
+            candidates.len() - 1,
+            "the farthest, at r = R, weighs 0"
+        );
         assert!(matches!(
-            weigh(&candidates, reference, Radius::Within(1e-3), Weighting::Linear),
+            weigh(
+                &candidates,
+                reference,
+                Radius::Within(1e-3),
+                Weighting::Linear
+            ),
             Err(CloudError::TooFew { found: 1, .. })
         ));
     }

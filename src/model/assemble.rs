@@ -5,9 +5,9 @@
 use super::Model;
 use crate::fem::constraints::ConstraintError;
 use crate::fem::element::MassRule;
-use crate::fem::transform::{Transform, TransformError};
 use crate::fem::point_mass::add_point_masses;
 use crate::fem::springs::{add_coupling_springs, add_ground_springs, add_two_node_springs};
+use crate::fem::transform::{Transform, TransformError};
 use crate::fem::{assemble as fem_assemble, AssemblyError, DofError, DofMap, StructureOptions};
 use crate::petsc::{Comm, Matrix, PetscError, Vector};
 

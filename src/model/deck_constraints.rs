@@ -145,10 +145,13 @@ pub(super) fn conditions(
         }
     }
     for (&(n, c), &value) in &loading.displacements {
-        let source = said.get(&(n, c)).map(|b| b.source.clone()).unwrap_or(SourceLine {
-            file: deck_file(deck),
-            line: 0,
-        });
+        let source = said
+            .get(&(n, c))
+            .map(|b| b.source.clone())
+            .unwrap_or(SourceLine {
+                file: deck_file(deck),
+                line: 0,
+            });
         if let Some(&k) = loading.fixed.get(&(n, c)) {
             if let Some(earlier) = deck.steps[..k].iter().position(|s| !s.perturbation) {
                 return Err(at(
@@ -247,21 +250,22 @@ fn coupling(deck: &Deck, c: &DeckCoupling) -> Result<Vec<LinearConstraint>, Mode
         "*COUPLING {} (reference node {})",
         c.name, mesh.node_labels[c.reference]
     );
-    let mut cloud = distributing::weigh(&candidates, reference, radius, weighting).map_err(|e| {
-        let why = match (e, c.radius) {
-            (CloudError::TooFew { found: 0, .. }, Some(r)) => format!(
-                "no node of surface {} lies within the INFLUENCE RADIUS {r} of the reference \
+    let mut cloud =
+        distributing::weigh(&candidates, reference, radius, weighting).map_err(|e| {
+            let why = match (e, c.radius) {
+                (CloudError::TooFew { found: 0, .. }, Some(r)) => format!(
+                    "no node of surface {} lies within the INFLUENCE RADIUS {r} of the reference \
                  node (the nearest is at {:.6e})",
-                c.surface,
-                candidates
-                    .iter()
-                    .map(|&(_, x)| crate::vector3::norm(crate::vector3::sub(x, reference)))
-                    .fold(f64::INFINITY, f64::min)
-            ),
-            (e, _) => format!("surface {}: {e}", c.surface),
-        };
-        at(&c.source, format!("{name}: {why}"))
-    })?;
+                    c.surface,
+                    candidates
+                        .iter()
+                        .map(|&(_, x)| crate::vector3::norm(crate::vector3::sub(x, reference)))
+                        .fold(f64::INFINITY, f64::min)
+                ),
+                (e, _) => format!("surface {}: {e}", c.surface),
+            };
+            at(&c.source, format!("{name}: {why}"))
+        })?;
     if c.element_based {
         // Abaqus weighs an element-based surface's nodes by their tributary areas.
         let areas: BTreeMap<usize, f64> =
@@ -301,4 +305,138 @@ fn coupling(deck: &Deck, c: &DeckCoupling) -> Result<Vec<LinearConstraint>, Mode
             }
         })
         .collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::model::source;
+
+    /// The unit tetrahedron (nodes 11..20, element 7) and a node 30 of its own at
+    /// (0.2, 0.2, 2).
+    fn deck(tail: &str) -> String {
+        let mut s = String::from("*NODE, NSET=NALL\n");
+        let c = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 0.0, 1.0],
+        ];
+        let mut p = c.to_vec();
+        for [a, b] in crate::mesh::TET10_EDGES {
+            p.push([0, 1, 2].map(|k| 0.5 * (c[a][k] + c[b][k])));
+        }
+        for (i, x) in p.iter().enumerate() {
+            s.push_str(&format!("{}, {}, {}, {}\n", 11 + i, x[0], x[1], x[2]));
+        }
+        s.push_str(
+            "*NODE\n30, 0.2, 0.2, 2.0\n*ELEMENT, TYPE=C3D10, ELSET=EALL\n\
+             7, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20\n*MATERIAL, NAME=STEEL\n*ELASTIC\n\
+             210e9, 0.3\n*DENSITY\n7850.\n*SOLID SECTION, ELSET=EALL, MATERIAL=STEEL\n\
+             *SURFACE, NAME=BASE\n7, S1\n",
+        );
+        s.push_str(tail);
+        s
+    }
+
+    /// The error of reading `tail` after the tet, and the 1-based line of the tail's first
+    /// line.
+    fn error(test: &str, tail: &str) -> (String, usize) {
+        let dir =
+            std::env::temp_dir().join(format!("squeal-constraints-{test}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        let text = deck(tail);
+        let first = text.lines().count() - tail.lines().count() + 1;
+        std::fs::write(dir.join("deck.inp"), &text).unwrap();
+        let result = source::read(&dir.join("deck.inp"));
+        let _ = std::fs::remove_dir_all(&dir);
+        match result {
+            Ok(_) => panic!("{test}: read without error"),
+            Err(e) => (e.to_string(), first),
+        }
+    }
+
+    #[test]
+    fn a_coupling_with_no_node_within_its_radius_names_its_line() {
+        let (e, first) = error(
+            "radius",
+            "*COUPLING, REF NODE=30, SURFACE=BASE, CONSTRAINT NAME=C, INFLUENCE RADIUS=0.5\n\
+             *DISTRIBUTING\n",
+        );
+        assert!(e.contains(&format!("deck.inp:{first}:")), "{e}");
+        assert!(
+            e.contains("no node of surface BASE lies within the INFLUENCE RADIUS 0.5"),
+            "{e}"
+        );
+        // The default radius takes them all.
+        let dir =
+            std::env::temp_dir().join(format!("squeal-constraints-ok-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(
+            dir.join("deck.inp"),
+            deck("*COUPLING, REF NODE=30, SURFACE=BASE, CONSTRAINT NAME=C\n*DISTRIBUTING\n"),
+        )
+        .unwrap();
+        let model = source::read(&dir.join("deck.inp")).unwrap();
+        let _ = std::fs::remove_dir_all(&dir);
+        assert_eq!(model.constraints.len(), 3);
+        // Its x: 1 at the reference, the face's 6 nodes with weights adding up to -1.
+        let x = &model.constraints[0];
+        let sum: f64 = x.terms.iter().filter(|t| t.1 == 0).map(|t| t.2).sum();
+        assert!(sum.abs() < 1e-15, "{:?}", x.terms);
+    }
+
+    #[test]
+    fn a_dependent_dof_taken_twice_or_supported_is_refused_naming_both_lines() {
+        let (e, first) = error(
+            "twice",
+            "*EQUATION\n2\n11, 1, 1., 12, 1, -1.\n2\n11, 1, 1., 13, 1, -1.\n",
+        );
+        assert!(
+            e.contains(&format!("deck.inp:{}", first + 3))
+                && e.contains(&format!("deck.inp:{}", first + 1))
+                && e.contains("already the dependent DOF"),
+            "{e}"
+        );
+        let (e, first) = error(
+            "supported",
+            "*EQUATION\n2\n11, 1, 1., 12, 1, -1.\n*BOUNDARY\n11, 1\n",
+        );
+        assert!(
+            e.contains(&format!("deck.inp:{}", first + 1))
+                && e.contains("also held by the support"),
+            "{e}"
+        );
+        let (e, first) = error(
+            "prescribed",
+            "*EQUATION\n2\n11, 1, 1., 12, 1, -1.\n*BOUNDARY\n11, 1, 1, 0.001\n",
+        );
+        assert!(
+            e.contains(&format!("deck.inp:{}", first + 4))
+                && e.contains(&format!("deck.inp:{}", first + 1)),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn a_node_on_a_cylindrical_axis_and_fixed_after_a_general_step_are_refused() {
+        let (e, first) = error(
+            "axis",
+            "*TRANSFORM, NSET=NALL, TYPE=C\n0., 0., 0., 0., 0., 1.\n*BOUNDARY\n11, 1\n",
+        );
+        assert!(
+            e.contains(&format!("deck.inp:{}", first + 3))
+                && e.contains("node 11 lies on the axis"),
+            "{e}"
+        );
+        let (e, first) = error(
+            "fixed",
+            "*STEP\n*STATIC\n*CLOAD\n14, 3, 1.\n*END STEP\n*STEP\n*STATIC\n\
+             *BOUNDARY, FIXED\n14, 1, 3\n*END STEP\n",
+        );
+        assert!(
+            e.contains(&format!("deck.inp:{}", first + 8)) && e.contains("FIXED"),
+            "{e}"
+        );
+    }
 }

@@ -196,8 +196,8 @@ fn couple(
 mod tests {
     use super::*;
     use crate::mesh::block::block;
-    use crate::vector3::norm;
     use crate::mesh::Material;
+    use crate::vector3::norm;
 
     fn plate() -> Mesh {
         let material = Material {

@@ -247,10 +247,7 @@ impl Reader {
             }
             "DISTRIBUTING" | "KINEMATIC" => {
                 if !after_coupling {
-                    return Err(self.err(
-                        kw.loc,
-                        format!("{} must follow a *COUPLING", kw.display),
-                    ));
+                    return Err(self.err(kw.loc, format!("{} must follow a *COUPLING", kw.display)));
                 }
                 if kw.name == "KINEMATIC" {
                     return Err(self.err(
@@ -439,16 +436,14 @@ impl Reader {
         draft.points = Some((a, b, loc));
         let scale_of = norm(a).max(norm(b)).max(f64::MIN_POSITIVE);
         match kind {
-            TransformKind::Cylindrical if norm(sub(b, a)) <= 1e-12 * scale_of => {
-                Err(self.err(
-                    loc,
-                    format!(
-                        "*TRANSFORM, TYPE=C: the two points on the axis are the same point \
+            TransformKind::Cylindrical if norm(sub(b, a)) <= 1e-12 * scale_of => Err(self.err(
+                loc,
+                format!(
+                    "*TRANSFORM, TYPE=C: the two points on the axis are the same point \
                          ({}, {}, {}), so the cylindrical system has no axis",
-                        a[0], a[1], a[2]
-                    ),
-                ))
-            }
+                    a[0], a[1], a[2]
+                ),
+            )),
             TransformKind::Rectangular
                 if norm(a) == 0.0 || norm(cross(a, b)) <= 1e-12 * norm(a) * norm(b) =>
             {
@@ -505,26 +500,27 @@ impl Reader {
             v.sort_by_key(|&n| mesh.node_labels[n]);
             v
         };
-        let nodes_of = |target: &NodeRef, loc: Loc, keyword: &str| -> Result<Vec<usize>, MeshError> {
-            match target {
-                NodeRef::Node(label) => self
-                    .node_index
-                    .get(label)
-                    .map(|&n| vec![n])
-                    .ok_or_else(|| self.err(loc, format!("{keyword}: node {label} is not defined"))),
-                NodeRef::Set(name) => match mesh.node_sets.get(&name.canon) {
-                    Some(nodes) if nodes.is_empty() => Err(self.err(
-                        loc,
-                        format!("{keyword}: node set {} is empty", name.written),
-                    )),
-                    Some(nodes) => Ok(sorted(nodes)),
-                    None => Err(self.err(
-                        loc,
-                        format!("{keyword}: node set {} is not defined", name.written),
-                    )),
-                },
-            }
-        };
+        let nodes_of =
+            |target: &NodeRef, loc: Loc, keyword: &str| -> Result<Vec<usize>, MeshError> {
+                match target {
+                    NodeRef::Node(label) => {
+                        self.node_index.get(label).map(|&n| vec![n]).ok_or_else(|| {
+                            self.err(loc, format!("{keyword}: node {label} is not defined"))
+                        })
+                    }
+                    NodeRef::Set(name) => match mesh.node_sets.get(&name.canon) {
+                        Some(nodes) if nodes.is_empty() => Err(self.err(
+                            loc,
+                            format!("{keyword}: node set {} is empty", name.written),
+                        )),
+                        Some(nodes) => Ok(sorted(nodes)),
+                        None => Err(self.err(
+                            loc,
+                            format!("{keyword}: node set {} is not defined", name.written),
+                        )),
+                    },
+                }
+            };
         let mut equations = Vec::new();
         for draft in &drafts.equations {
             if draft.terms.len() < draft.count {
@@ -703,5 +699,140 @@ impl Reader {
             }
         }
         Ok((equations, transforms, couplings))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::test_support::*;
+    use super::*;
+
+    #[test]
+    fn equations_expand_node_sets_label_by_label_and_read_terms_over_lines() {
+        let text = format!(
+            "{}*NSET, NSET=A\n13, 11\n*NSET, NSET=B\n14, 12\n*EQUATION\n3\n15, 1, 1.0, 16, 2, \
+             -0.5,\n17, 3, -0.5\n2\nA, 2, 1., B, 2, -1.\n",
+            one_tet()
+        );
+        let deck = read_text("equations", &text).unwrap();
+        assert_eq!(deck.equations.len(), 3);
+        let terms = |k: usize| -> Vec<(i64, u8, f64)> {
+            deck.equations[k]
+                .terms
+                .iter()
+                .map(|t| (deck.mesh.node_labels[t.node], t.dof, t.coefficient))
+                .collect()
+        };
+        assert_eq!(terms(0), vec![(15, 1, 1.0), (16, 2, -0.5), (17, 3, -0.5)]);
+        // Sets sorted by label: 11 with 12, then 13 with 14.
+        assert_eq!(terms(1), vec![(11, 2, 1.0), (12, 2, -1.0)]);
+        assert_eq!(terms(2), vec![(13, 2, 1.0), (14, 2, -1.0)]);
+        assert_eq!(deck.equations[1].source, deck.equations[2].source);
+    }
+
+    #[test]
+    fn transforms_give_orthonormal_local_axes() {
+        let text = format!(
+            "{}*TRANSFORM, NSET=NALL, TYPE=C\n0., 0., -1., 0., 0., 3.\n",
+            one_tet()
+        );
+        let deck = read_text("transform-c", &text).unwrap();
+        let t = &deck.transforms[0];
+        assert_eq!(t.kind, TransformKind::Cylindrical);
+        let axes = t.axes([0.0, 2.0, 5.0]).unwrap();
+        assert_eq!(axes, [[0.0, 1.0, 0.0], [-1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]);
+        assert!(t.axes([0.0, 0.0, 0.5]).is_none(), "on the axis");
+        let text = format!(
+            "{}*TRANSFORM, NSET=NALL\n1., 1., 0., -1., 1., 0.\n",
+            one_tet()
+        );
+        let deck = read_text("transform-r", &text).unwrap();
+        let axes = deck.transforms[0].axes([9.0; 3]).unwrap();
+        let s = 0.5f64.sqrt();
+        for (got, want) in axes
+            .iter()
+            .zip([[s, s, 0.0], [-s, s, 0.0], [0.0, 0.0, 1.0]])
+        {
+            for k in 0..3 {
+                assert!((got[k] - want[k]).abs() < 1e-15, "{axes:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn bad_constraint_input_is_refused_at_its_line() {
+        let base = one_tet();
+        let n = base.lines().count();
+        let cases = [
+            (
+                "*TRANSFORM, NSET=NALL, TYPE=C\n1., 2., 3., 1., 2., 3.\n",
+                n + 2,
+                "no axis",
+            ),
+            (
+                "*TRANSFORM, NSET=NALL, TYPE=R\n1., 0., 0., 2., 0., 0.\n",
+                n + 2,
+                "off the line",
+            ),
+            ("*TRANSFORM, NSET=NALL, TYPE=X\n", n + 1, "TYPE=X"),
+            ("*EQUATION\n2\n11, 1, 1., 99, 1, -1.\n", n + 3, "node 99"),
+            ("*EQUATION\n2\n11, 1, 1., GHOST, 1, -1.\n", n + 3, "GHOST"),
+            ("*EQUATION\n2\n11, 4, 1., 12, 4, -1.\n", n + 3, "rotation"),
+            (
+                "*EQUATION\n2\n11, 1, 1.\n*NSET, NSET=Z\n11\n",
+                n + 2,
+                "2 terms announced",
+            ),
+            (
+                "*EQUATION\n2\n11, 1, 1., 12, 1, -1., 13, 1, 1.\n",
+                n + 3,
+                "goes past",
+            ),
+            ("*EQUATION\nx\n", n + 2, "number of terms"),
+            (
+                "*NSET, NSET=TWO\n11, 12\n*EQUATION\n2\nTWO, 1, 1., NALL, 1, -1.\n",
+                n + 5,
+                "same number of nodes",
+            ),
+            (
+                "*SURFACE, NAME=S\n7, S1\n*COUPLING, REF NODE=20, SURFACE=S, CONSTRAINT NAME=C\n\
+                 *KINEMATIC\n",
+                n + 4,
+                "*KINEMATIC",
+            ),
+            (
+                "*SURFACE, NAME=S\n7, S1\n*COUPLING, REF NODE=20, SURFACE=S, CONSTRAINT NAME=C\n\
+                 *DISTRIBUTING, COUPLING=STRUCTURAL\n",
+                n + 4,
+                "STRUCTURAL",
+            ),
+            ("*DISTRIBUTING\n", n + 1, "must follow a *COUPLING"),
+            (
+                "*SURFACE, NAME=S\n7, S1\n*COUPLING, REF NODE=20, SURFACE=S, CONSTRAINT NAME=C\n\
+                 *DISTRIBUTING\n*BOUNDARY\n20, 4, 6\n",
+                n + 6,
+                "no rotations",
+            ),
+            (
+                "*SURFACE, NAME=S\n7, S1\n*COUPLING, REF NODE=20, SURFACE=S, CONSTRAINT NAME=C\n\
+                 *DISTRIBUTING\n*BOUNDARY\nNALL, ENCASTRE\n",
+                n + 6,
+                "no rotations",
+            ),
+            (
+                "*COUPLING, REF NODE=20, SURFACE=NOPE, CONSTRAINT NAME=C\n*DISTRIBUTING\n",
+                n + 1,
+                "surface NOPE",
+            ),
+            ("*BOUNDARY, FIXED\nNALL, 1\n", n + 1, "belongs in a step"),
+        ];
+        for (i, (tail, line, needle)) in cases.iter().enumerate() {
+            let (_, got, message) = parse_error(read_text(
+                &format!("err-constraint-{i}"),
+                &format!("{base}{tail}"),
+            ));
+            assert_eq!(got, *line, "{tail}: {message}");
+            assert!(message.contains(needle), "{tail}: {message}");
+        }
     }
 }

@@ -106,14 +106,14 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
 
 use crate::mesh::{Mesh, MeshError};
+pub use constraint_lines::{
+    DeckCoupling, DeckTransform, DistributingWeighting, Equation, EquationTerm, TransformKind,
+};
 use reader::Reader;
 pub use records::{
     Boundary, ConcentratedLoad, DeckContactPair, DeckMass, DeckSpring, FrequencyRequest,
     NodeTarget, NormalBehavior, PressureLoad, PressureTarget, Procedure, Replaced, SlaveSurface,
     SourceLine, SpringEnds, StaticRequest, Step, SurfaceInteraction,
-};
-pub use constraint_lines::{
-    DeckCoupling, DeckTransform, DistributingWeighting, Equation, EquationTerm, TransformKind,
 };
 pub use steps::Loading;
 

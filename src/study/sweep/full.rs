@@ -120,7 +120,9 @@ impl<'rt> FullModel<'rt> {
         let operators = model::assemble(comm, &model, study.analysis.mass_rule)?;
         let damping = match (study.analysis.damping, &operators.constraints) {
             (Some(d), None) => Some(d.matrix(&operators.stiffness, &operators.mass)?),
-            (Some(d), Some(t)) => Some(t.project(&d.matrix(&operators.stiffness, &operators.mass)?)?),
+            (Some(d), Some(t)) => {
+                Some(t.project(&d.matrix(&operators.stiffness, &operators.mass)?)?)
+            }
             (None, _) => None,
         };
         let cea = CeaOptions {
