@@ -43,6 +43,12 @@ const CHECKS: &[Check] = &[
         ranks: &[1, 2],
         agreement: 1e-8,
     },
+    Check {
+        name: "a_pad_pressed_on_a_plate_by_a_prescribed_displacement_balances_its_reaction",
+        run: pressed_pad,
+        ranks: &[1, 2],
+        agreement: 1e-8,
+    },
 ];
 
 fn main() {
@@ -371,4 +377,104 @@ fn prescribed_tube(rt: &Runtime) -> Result<Vec<f64>, String> {
         largest,
         solution.displacement[0][0],
     ])
+}
+
+/// tests/data/pad_on_plate.inp with its 1 MPa on the pad's top replaced by a prescribed
+/// 0.2 micrometre down (the top's x and y held as in the deck): contact, Newton and the
+/// constraints together. The reaction at the pad's top (the constraint forces along z)
+/// carries exactly what the contact carries (equilibrium of the pad: nothing else acts on
+/// it along z), to the solve's tolerance (1e-8 of the force; measured 2e-15); the CEA of
+/// C^T K_t C (frictionless: symmetric) finds the modes the real-mode solver finds.
+fn pressed_pad(rt: &Runtime) -> Result<Vec<f64>, String> {
+    let comm = rt.world();
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
+    let original = std::fs::read_to_string(data.join("pad_on_plate.inp")).map_err(text)?;
+    let mesh = data.join("pad_on_plate_mesh.inp");
+    let pressed = original
+        .replace(
+            "INPUT=pad_on_plate_mesh.inp",
+            &format!("INPUT={}", mesh.display()),
+        )
+        .replace(
+            "*DSLOAD\nPADTOPFACES, P, 1e6\n",
+            "*BOUNDARY\nPADTOP, 3, 3, -2e-7\n",
+        );
+    let dir = std::env::temp_dir().join(format!(
+        "squeal-pressed-pad-{}-{}",
+        comm.size(),
+        std::process::id()
+    ));
+    std::fs::create_dir_all(&dir).map_err(text)?;
+    let path = dir.join(format!("pressed-{}.inp", comm.rank()));
+    std::fs::write(&path, pressed).map_err(text)?;
+    let model = source::read(&path).map_err(text)?;
+    let _ = std::fs::remove_file(&path);
+    let (solution, forces) = solve_static(rt, &model)?;
+    let top = &model.mesh.node_sets["PADTOP"];
+    let reaction: f64 = top.iter().map(|&n| forces[n][2]).sum();
+    let contact: f64 = model
+        .pairs
+        .iter()
+        .zip(&solution.contact)
+        .map(|(pair, states)| squeal::contact::summarize_states(pair, states).normal_force)
+        .sum();
+    if rt.world().rank() == 0 {
+        println!("pressed pad: reaction {reaction:.12e} N, contact {contact:.12e} N");
+    }
+    // The constraint pushes the pad down (negative z) and the plate pushes back.
+    if contact <= 0.0 || ((reaction + contact) / contact).abs() > 1e-8 {
+        return Err(format!(
+            "the prescribed displacement's reaction {reaction} N does not balance the contact \
+             force {contact} N"
+        ));
+    }
+    // The CEA sees the constraints: at mu 0 it finds the real modes of C^T K_t C and
+    // C^T M C (a symmetric pencil).
+    let ops = model::assemble(comm, &model, MassRule::Exact).map_err(text)?;
+    let t = ops.constraints.as_ref().ok_or("no transformation")?;
+    let kt = statics::tangent(
+        comm,
+        &ops.stiffness,
+        &ops.dofs,
+        &model.pairs,
+        &solution.slip_before,
+        &solution.displacement,
+    )
+    .map_err(text)?;
+    let (k, m) = (
+        t.project(&kt).map_err(text)?,
+        t.project(&ops.mass).map_err(text)?,
+    );
+    let fmax = 60_000.0;
+    let cea = squeal::analysis::cea::solve(
+        comm,
+        &k,
+        &m,
+        None,
+        &squeal::analysis::cea::CeaOptions {
+            max_frequency_hz: fmax,
+            ..Default::default()
+        },
+    )
+    .map_err(text)?;
+    let real = real_modes(
+        comm,
+        &k,
+        &m,
+        &ModesOptions {
+            band: ModeBand::Below {
+                max_frequency_hz: fmax,
+            },
+            ..Default::default()
+        },
+    )
+    .map_err(text)?;
+    let a: Vec<f64> = cea.modes.iter().map(|m| m.frequency_hz).collect();
+    let b: Vec<f64> = real.modes.iter().map(|m| m.frequency_hz).collect();
+    if a.len() != b.len() || a.iter().zip(&b).any(|(x, y)| (x - y).abs() > 1e-8 * y) {
+        return Err(format!("CEA {a:?} vs real modes {b:?}"));
+    }
+    let mut out = vec![reaction, contact];
+    out.extend(a);
+    Ok(out)
 }
