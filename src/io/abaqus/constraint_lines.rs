@@ -140,6 +140,8 @@ pub(super) struct ConstraintDrafts {
     /// Loads and supports on rotational DOFs (dropped with a warning, unless the node is a
     /// coupling's reference node): the target as written, the keyword, the line.
     pub(super) rotational: Vec<(String, &'static str, Loc)>,
+    /// Node sets defined `UNSORTED` (their order is not kept: refused in an `*EQUATION`).
+    pub(super) unsorted: BTreeMap<String, Loc>,
 }
 
 struct EquationDraft {
@@ -536,7 +538,33 @@ impl Reader {
             }
             let mut expanded: Vec<(Vec<usize>, u8, f64, Loc)> = Vec::new();
             for (target, dof, a, loc) in &draft.terms {
+                if let NodeRef::Set(name) = target {
+                    if let Some(&defined) = drafts.unsorted.get(&name.canon) {
+                        return Err(self.err(
+                            *loc,
+                            format!(
+                                "*EQUATION: node set {} is UNSORTED (at {}); squeal keeps sets \
+                                 sorted, so it cannot pair its nodes in the order given: list \
+                                 the equations node by node",
+                                name.written,
+                                self.lines.at(defined)
+                            ),
+                        ));
+                    }
+                }
                 expanded.push((nodes_of(target, *loc, "*EQUATION")?, *dof, *a, *loc));
+            }
+            // Abaqus: after a single node, every entry must be a single node.
+            if let (Some(first), Some(set)) =
+                (expanded.first(), expanded.iter().find(|t| t.0.len() > 1))
+            {
+                if first.0.len() == 1 && matches!(draft.terms[0].0, NodeRef::Node(_)) {
+                    return Err(self.err(
+                        set.3,
+                        "*EQUATION: the first term is a single node, so every term must be a \
+                         single node (Abaqus); a node set may follow a node set only",
+                    ));
+                }
             }
             let repeats = expanded.iter().map(|t| t.0.len()).max().unwrap_or(1);
             if let Some(t) = expanded
@@ -789,6 +817,17 @@ mod tests {
                 "goes past",
             ),
             ("*EQUATION\nx\n", n + 2, "number of terms"),
+            (
+                "*EQUATION\n2\n11, 1, 1., NALL, 1, -1.\n",
+                n + 3,
+                "single node",
+            ),
+            (
+                "*NSET, NSET=U, UNSORTED\n12, 11\n*NSET, NSET=V\n13, 14\n*EQUATION\n2\nU, 1, \
+                 1., V, 1, -1.\n",
+                n + 7,
+                "UNSORTED",
+            ),
             (
                 "*NSET, NSET=TWO\n11, 12\n*EQUATION\n2\nTWO, 1, 1., NALL, 1, -1.\n",
                 n + 5,

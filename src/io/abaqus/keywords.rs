@@ -432,7 +432,10 @@ impl Reader {
         }
         let name = Name::new(&self.required(kw, "NSET")?);
         let generate = kw.flag("GENERATE");
-        kw.flag("UNSORTED");
+        if kw.flag("UNSORTED") {
+            // Only an *EQUATION's node-by-node pairing depends on the order.
+            self.constraints.unsorted.insert(name.canon.clone(), kw.loc);
+        }
         kw.flag("INTERNAL");
         let mut members = SetDraft::new(&name.written);
         if let Some(elset) = self.param(kw, "ELSET")? {

@@ -326,6 +326,42 @@ impl<'rt> FullModel<'rt> {
         Ok(())
     }
 
+    /// With constraints, the forces they apply at `equilibrium` (every node); `None`
+    /// without. Collective.
+    fn constraint_forces(
+        &self,
+        comm: Comm<'rt>,
+        equilibrium: &statics::StaticSolution,
+    ) -> Result<Option<Vec<[f64; 3]>>, statics::StaticsError> {
+        let Operators {
+            dofs,
+            stiffness,
+            load,
+            constraints,
+            ..
+        } = &self.operators;
+        if constraints.is_none() {
+            return Ok(None);
+        }
+        let problem = StaticProblem {
+            dofs,
+            stiffness,
+            load,
+            pairs: &self.model.pairs,
+            slip: &equilibrium.slip_before,
+            bodies: &self.bodies,
+            constraints: constraints.as_ref(),
+        };
+        statics::constraint_forces(
+            comm,
+            &problem,
+            &equilibrium.slip_before,
+            &equilibrium.displacement,
+            1.0,
+        )
+        .map(Some)
+    }
+
     /// The last equilibrium solved, as a checkpoint keeps it.
     pub(super) fn previous_state(&self) -> Option<EquilibriumState> {
         self.previous
@@ -447,6 +483,9 @@ impl<'rt> FrictionModel<'rt> for FullModel<'rt> {
         let t_static = Instant::now();
         let equilibrium = self.static_at(comm, mu)?;
         let u = &equilibrium.displacement;
+        let constraint_forces = self
+            .constraint_forces(comm, &equilibrium)
+            .map_err(|source| StudyError::Static { mu, source })?;
         let mut contact_reports = Vec::new();
         let mut normal_total = 0.0;
         let slip = &equilibrium.slip_before;
@@ -575,8 +614,12 @@ impl<'rt> FrictionModel<'rt> for FullModel<'rt> {
             peak_rss_mib_all_ranks: peak_sum[0],
             superelement: None,
         };
-        let fields = root
-            .then(|| self.point_fields(&equilibrium.displacement, &equilibrium.contact, unstable));
+        let fields = root.then(|| {
+            let mut fields =
+                self.point_fields(&equilibrium.displacement, &equilibrium.contact, unstable);
+            fields.constraint_forces = constraint_forces.map(|f| mesh_part(f, &self.model.mesh));
+            fields
+        });
         Ok(PointOutcome {
             report,
             tracking_shapes,
@@ -739,6 +782,7 @@ impl FullModel<'_> {
             contact_closed,
             contact_state,
             unstable,
+            constraint_forces: None,
         }
     }
 }
