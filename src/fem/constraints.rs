@@ -28,6 +28,10 @@ pub enum Pivot {
     /// global axis: a support in a `*TRANSFORM` system); the largest coefficient, once the
     /// constraints before it are substituted.
     Node(usize),
+    /// This one when it is free; when a support or an earlier constraint already holds it
+    /// (a distributing coupling's reference node driven by a `*BOUNDARY`), the DOF of the
+    /// largest coefficient among the others.
+    Prefer(Dof),
 }
 
 /// `sum_k a_k u_k = value` (the value at load factor 1: prescribed displacements grow with
@@ -201,10 +205,15 @@ pub fn resolve(
                 }
                 dof
             }
-            Pivot::Node(node) => {
+            Pivot::Prefer(dof) if sum.contains_key(&dof) => dof,
+            Pivot::Node(_) | Pivot::Prefer(_) => {
+                let node = match constraint.pivot {
+                    Pivot::Node(node) => Some(node),
+                    _ => None,
+                };
                 let best = sum
                     .iter()
-                    .filter(|(dof, _)| dof.0 == node)
+                    .filter(|(dof, _)| node.is_none_or(|n| dof.0 == n))
                     .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()));
                 match best {
                     Some((&dof, _)) => dof,
@@ -220,6 +229,9 @@ pub fn resolve(
                                 "supports and earlier constraints already fix every DOF of this \
                              node it involves"
                             };
+                        let node = node.unwrap_or(match constraint.pivot {
+                            Pivot::Prefer((n, _)) | Pivot::Fixed((n, _)) | Pivot::Node(n) => n,
+                        });
                         return Err(ConstraintError::NothingLeft {
                             at: source.clone(),
                             why: format!("{why} (node {})", labels(node)),
@@ -327,6 +339,34 @@ mod tests {
             assert!(d.terms.is_empty(), "{c}: {:?}", d.terms);
             assert!((d.offset - 0.1 * s).abs() < 1e-15, "{c}: {}", d.offset);
         }
+    }
+
+    #[test]
+    fn a_preferred_dependent_that_is_held_gives_way_to_the_largest_other_term() {
+        // u(0,x) = 0.25 u(1,x) + 0.75 u(2,x), preferring u(0,x); u(0,x) prescribed first.
+        let tie = LinearConstraint {
+            terms: vec![(0, 0, 1.0), (1, 0, -0.25), (2, 0, -0.75)],
+            value: 0.0,
+            pivot: Pivot::Prefer((0, 0)),
+            source: "c".into(),
+        };
+        let r = resolve(
+            &[equation(&[(0, 0, 1.0)], 0.3, "b"), tie.clone()],
+            &[],
+            3,
+            &label,
+        )
+        .unwrap();
+        assert_eq!(r.dependents[&(0, 0)].offset, 0.3);
+        let d = &r.dependents[&(2, 0)];
+        assert_eq!(d.terms, vec![((1, 0), -0.25 / 0.75)]);
+        assert!((d.offset - 0.3 / 0.75).abs() < 1e-15);
+        // Free, it is the one eliminated.
+        let r = resolve(&[tie], &[], 3, &label).unwrap();
+        assert_eq!(
+            r.dependents.keys().copied().collect::<Vec<_>>(),
+            vec![(0, 0)]
+        );
     }
 
     #[test]

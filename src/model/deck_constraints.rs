@@ -90,9 +90,11 @@ pub(super) fn conditions(
         })
     };
     let mut held: BTreeMap<usize, [bool; 3]> = BTreeMap::new();
-    let mut constraints = Vec::new();
-    // Equations and couplings first: their dependent DOFs are the deck's own choice, and a
-    // support or prescribed value on one of them is then refused, as Abaqus refuses it.
+    // Eliminated in this order: prescribed displacements, equations, couplings. A prescribed
+    // value on an equation's dependent DOF is then refused, as Abaqus refuses it; one on a
+    // coupling's reference node drives it (the coupling eliminates a cloud DOF instead).
+    let mut prescribed = Vec::new();
+    let mut ties = Vec::new();
     for e in &deck.equations {
         let mut terms = Vec::new();
         for t in &e.terms {
@@ -111,7 +113,7 @@ pub(super) fn conditions(
             false => Pivot::Fixed((first.node, usize::from(first.dof) - 1)),
             true => Pivot::Node(first.node),
         };
-        constraints.push(LinearConstraint {
+        ties.push(LinearConstraint {
             terms,
             value: 0.0,
             pivot,
@@ -119,7 +121,7 @@ pub(super) fn conditions(
         });
     }
     for c in &deck.couplings {
-        constraints.extend(coupling(deck, c)?);
+        ties.extend(coupling(deck, c)?);
     }
     // Springs whose DOFs a transform would turn: Abaqus reads them in the local system.
     for s in &deck.springs {
@@ -168,7 +170,7 @@ pub(super) fn conditions(
             }
         }
         match axes(n, &source)? {
-            Some(a) => constraints.push(LinearConstraint {
+            Some(a) => prescribed.push(LinearConstraint {
                 terms: (0..3)
                     .filter(|&k| a[c][k] != 0.0)
                     .map(|k| (n, k, a[c][k]))
@@ -178,7 +180,7 @@ pub(super) fn conditions(
                 source: format!("{source} (*BOUNDARY in the *TRANSFORM system)"),
             }),
             None if value == 0.0 => held.entry(n).or_default()[c] = true,
-            None => constraints.push(LinearConstraint {
+            None => prescribed.push(LinearConstraint {
                 terms: vec![(n, c, 1.0)],
                 value,
                 pivot: Pivot::Fixed((n, c)),
@@ -219,10 +221,11 @@ pub(super) fn conditions(
             ),
         }
     }
+    prescribed.append(&mut ties);
     Ok(DeckConditions {
         supports,
         forces,
-        constraints,
+        constraints: prescribed,
     })
 }
 
@@ -300,7 +303,8 @@ fn coupling(deck: &Deck, c: &DeckCoupling) -> Result<Vec<LinearConstraint>, Mode
             LinearConstraint {
                 terms,
                 value: 0.0,
-                pivot: Pivot::Fixed((c.reference, comp)),
+                // The reference node, unless a *BOUNDARY drives it (then a coupling node).
+                pivot: Pivot::Prefer((c.reference, comp)),
                 source: format!("{} ({name})", c.source),
             }
         })
@@ -384,6 +388,42 @@ mod tests {
         let x = &model.constraints[0];
         let sum: f64 = x.terms.iter().filter(|t| t.1 == 0).map(|t| t.2).sum();
         assert!(sum.abs() < 1e-15, "{:?}", x.terms);
+    }
+
+    #[test]
+    fn a_coupling_reference_driven_by_a_boundary_hands_its_elimination_to_the_cloud() {
+        let dir =
+            std::env::temp_dir().join(format!("squeal-constraints-driven-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(
+            dir.join("deck.inp"),
+            deck(
+                "*COUPLING, REF NODE=30, SURFACE=BASE, CONSTRAINT NAME=C\n*DISTRIBUTING\n\
+                 *BOUNDARY\n30, 1, 2\n30, 3, 3, 0.001\n",
+            ),
+        )
+        .unwrap();
+        let model = source::read(&dir.join("deck.inp")).unwrap();
+        let _ = std::fs::remove_dir_all(&dir);
+        let resolved = model.resolved_constraints().unwrap();
+        let reference = model
+            .mesh
+            .node_labels
+            .iter()
+            .position(|&l| l == 30)
+            .unwrap();
+        // z prescribed: the reference's own; x and y held: supports. The coupling's three
+        // dependents are then DOFs of the face.
+        assert_eq!(resolved.dependents[&(reference, 2)].offset, 0.001);
+        assert_eq!(resolved.dependents.len(), 4);
+        assert_eq!(
+            resolved
+                .dependents
+                .keys()
+                .filter(|d| d.0 == reference)
+                .count(),
+            1
+        );
     }
 
     #[test]
