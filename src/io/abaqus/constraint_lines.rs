@@ -338,7 +338,7 @@ impl Reader {
             };
             self.constraints.equations.push(EquationDraft {
                 count,
-                terms: Vec::with_capacity(count),
+                terms: Vec::with_capacity(count.min(64)),
                 loc,
             });
             return Ok(());
