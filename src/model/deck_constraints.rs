@@ -427,6 +427,39 @@ mod tests {
     }
 
     #[test]
+    fn equations_loads_and_supports_at_a_transformed_node_act_in_its_local_directions() {
+        // Node 12 in a rectangular system turned 90 degrees about z: local 1 = global y,
+        // local 2 = -x.
+        let dir =
+            std::env::temp_dir().join(format!("squeal-constraints-local-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(
+            dir.join("deck.inp"),
+            deck(
+                "*NSET, NSET=T\n12\n*TRANSFORM, NSET=T\n0., 1., 0., -1., 0., 0.\n\
+                 *EQUATION\n2\n11, 1, 1., 12, 2, -2.\n*BOUNDARY\n12, 1, 1, 0.25\n\
+                 *CLOAD\n12, 2, 3.\n*ELEMENT, TYPE=MASS, ELSET=M\n99, 30\n*MASS, ELSET=M\n1.\n",
+            ),
+        )
+        .unwrap();
+        let model = source::read(&dir.join("deck.inp")).unwrap();
+        let _ = std::fs::remove_dir_all(&dir);
+        let (n11, n12) = (0, 1);
+        // The prescribed local 1 (global y) first, then the equation u11x - 2 (-u12x) = 0.
+        assert_eq!(model.constraints[0].terms, vec![(n12, 1, 1.0)]);
+        assert_eq!(model.constraints[0].value, 0.25);
+        assert_eq!(
+            model.constraints[1].terms,
+            vec![(n11, 0, 1.0), (n12, 0, 2.0)]
+        );
+        // The force along local 2 is -3 along x.
+        assert_eq!(model.forces, vec![(n12, 0, -3.0)]);
+        let r = model.resolved_constraints().unwrap();
+        assert_eq!(r.dependents[&(n12, 1)].offset, 0.25);
+        assert_eq!(r.dependents[&(n11, 0)].terms, vec![((n12, 0), -2.0)]);
+    }
+
+    #[test]
     fn a_dependent_dof_taken_twice_or_supported_is_refused_naming_both_lines() {
         let (e, first) = error(
             "twice",
