@@ -152,9 +152,16 @@ fn solve_and_write(
     };
     let mesh = &model.mesh;
     let dofs = crate::model::assemble::dof_map(comm, &model)?;
-    // SLEPc's own words for more modes than equations are "Illegal value of nev".
+    // SLEPc's own words for more modes than equations are "Illegal value of nev". The
+    // unknowns are the equations less the DOFs the constraints eliminate.
+    let eliminated = match model.constraints.is_empty() {
+        true => 0,
+        false => model
+            .resolved_constraints()
+            .map_or(0, |r| r.dependents.len()),
+    };
     if let ModeBand::Lowest { count } = band {
-        if count > dofs.equations() {
+        if count > dofs.equations() - eliminated {
             let flag = if args.count.is_some() {
                 "--nev".to_string()
             } else {
@@ -163,7 +170,7 @@ fn solve_and_write(
             return Err(StudyError::TooManyModes {
                 flag,
                 count,
-                equations: dofs.equations(),
+                equations: dofs.equations() - eliminated,
             }
             .collective());
         }
