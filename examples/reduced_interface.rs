@@ -45,6 +45,7 @@ fn solve(rt: &Runtime, model: &Model) -> Result<Solved, String> {
         stiffness,
         mass,
         load,
+        ..
     } = model::assemble(comm, model, MassRule::Exact).map_err(|e| e.to_string())?;
     let problem = StaticProblem {
         dofs: &dofs,
@@ -53,6 +54,7 @@ fn solve(rt: &Runtime, model: &Model) -> Result<Solved, String> {
         pairs: &model.pairs,
         slip: &SlipHistory::default(),
         bodies: &restraint::bodies(&model.mesh),
+        constraints: None,
     };
     let equilibrium = statics::solve(comm, &problem, None, &StaticOptions::default())
         .map_err(|e| e.to_string())?;

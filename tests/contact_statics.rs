@@ -137,6 +137,7 @@ fn block_on_block(rt: &Runtime) -> Result<Vec<f64>, String> {
         pairs: &pairs,
         slip: &squeal::contact::SlipHistory::default(),
         bodies: &restraint::bodies(&mesh),
+        constraints: None,
     };
     let solution = statics::solve(comm, &problem, None, &StaticOptions::default()).map_err(e)?;
     let summary = contact::summarize(&pairs[0], &[], &solution.displacement).map_err(e)?;
@@ -190,6 +191,7 @@ fn brake_modes(rt: &Runtime, mu: f64, symmetric_check: bool) -> Result<Vec<f64>,
         stiffness: k,
         mass: m,
         load,
+        ..
     } = model::assemble(comm, &model, MassRule::Exact).map_err(e)?;
     let problem = StaticProblem {
         dofs: &dofs,
@@ -198,6 +200,7 @@ fn brake_modes(rt: &Runtime, mu: f64, symmetric_check: bool) -> Result<Vec<f64>,
         pairs: &model.pairs,
         slip: &squeal::contact::SlipHistory::default(),
         bodies: &restraint::bodies(&model.mesh),
+        constraints: None,
     };
     let solution = statics::solve(comm, &problem, None, &StaticOptions::default()).map_err(e)?;
     let kt = statics::tangent(
@@ -275,6 +278,7 @@ fn unheld_pad(rt: &Runtime) -> Result<Vec<f64>, String> {
         pairs: &model.pairs,
         slip: &squeal::contact::SlipHistory::default(),
         bodies: &restraint::bodies(&model.mesh),
+        constraints: None,
     };
     let options = StaticOptions {
         max_cutbacks: 1,

@@ -160,6 +160,7 @@ impl<'rt> Rig<'rt> {
             pairs: &self.pairs,
             slip: from.map_or(&no_slip, |s| &s.slip_after),
             bodies: &restraint::bodies(&self.mesh),
+            constraints: None,
         };
         statics::solve(
             rt.world(),

@@ -72,6 +72,7 @@ fn solve(rt: &Runtime, guided: bool) -> Result<Solved<'_>, String> {
         pairs: &model.pairs,
         slip: &contact::SlipHistory::default(),
         bodies: &restraint::bodies(&model.mesh),
+        constraints: None,
     };
     // Unguided, every cut-back fails alike: one is enough to show it (and saves a minute).
     let options = StaticOptions {
@@ -355,6 +356,7 @@ fn restraint_check(rt: &Runtime) -> Result<Vec<f64>, String> {
             pairs: &model.pairs,
             slip: &contact::SlipHistory::default(),
             bodies: &bodies,
+            constraints: None,
         };
         let rest = vec![[0.0; 3]; model.mesh.nodes.len()];
         let slip = contact::SlipHistory::default();

@@ -97,6 +97,7 @@ fn solve(rt: &Runtime, model: &Model, fmax: f64) -> Result<Solved, String> {
         stiffness: k,
         mass: m,
         load,
+        ..
     } = model::assemble(comm, model, MassRule::Exact).map_err(e)?;
     let problem = StaticProblem {
         dofs: &dofs,
@@ -105,6 +106,7 @@ fn solve(rt: &Runtime, model: &Model, fmax: f64) -> Result<Solved, String> {
         pairs: &model.pairs,
         slip: &squeal::contact::SlipHistory::default(),
         bodies: &restraint::bodies(&model.mesh),
+        constraints: None,
     };
     let solution = statics::solve(comm, &problem, None, &StaticOptions::default()).map_err(e)?;
     // Stiff ties put a round-off floor under |K u - F| (~1e-9 of the load): once Newton is

@@ -96,6 +96,7 @@ fn setup(rt: &Runtime) -> Result<Setup<'_>, String> {
         pairs: &model.pairs,
         slip: &squeal::contact::SlipHistory::default(),
         bodies: &restraint::bodies(&model.mesh),
+        constraints: None,
     };
     let solution = statics::solve(comm, &problem, None, &StaticOptions::default()).map_err(e)?;
     let swept = (0..model.pairs.len()).filter(|&i| model.swept[i]).collect();

@@ -10,6 +10,7 @@
 
 use super::restraint::{self, Body, FreeBody};
 use crate::contact::{self, ContactPair, PointState, SlipHistory, Status};
+use crate::fem::transform::Transform;
 use crate::fem::DofMap;
 use crate::petsc::{
     format_history, Comm, JacobianChange, Matrix, NewtonOptions, NonlinearSolver, PetscError,
@@ -30,6 +31,40 @@ pub struct StaticProblem<'a, 'rt> {
     pub slip: &'a SlipHistory,
     /// The bodies checked for rigid motions the initial tangent leaves free (empty: none).
     pub bodies: &'a [Body],
+    /// The constraints' transformation u = C x + lambda g (`None`: no constraints). With
+    /// it, the unknowns are the free DOFs: the residual is C^T (K u - lambda F + F_c(u)),
+    /// the Jacobian C^T (K + dF_c/dU) C, and the prescribed displacements g grow with the
+    /// load factor.
+    pub constraints: Option<&'a Transform<'rt>>,
+}
+
+impl<'rt> StaticProblem<'_, 'rt> {
+    /// The numbering of the solve's unknowns.
+    pub fn solver_dofs(&self) -> &DofMap {
+        self.constraints.map_or(self.dofs, |t| &t.free)
+    }
+
+    /// Node displacements (every node, every rank) of the unknowns `x` at load factor
+    /// `load_factor` (the prescribed displacements' share). Collective.
+    pub fn displacements(
+        &self,
+        x: &Vector<'rt>,
+        load_factor: f64,
+    ) -> Result<Vec<[f64; 3]>, PetscError> {
+        match self.constraints {
+            None => node_displacements(x, self.dofs),
+            Some(t) => node_displacements(&t.expand(x, load_factor)?, self.dofs),
+        }
+    }
+
+    /// A full-numbering matrix on the solve's unknowns: C^T A C with constraints, A itself
+    /// without. Collective.
+    pub fn on_unknowns(&self, a: Matrix<'rt>) -> Result<Matrix<'rt>, PetscError> {
+        match self.constraints {
+            None => Ok(a),
+            Some(t) => t.project(&a),
+        }
+    }
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -349,20 +384,53 @@ pub fn held_only_by_friction<'rt>(
         return Ok(Vec::new());
     }
     let pairs: Vec<ContactPair> = problem.pairs.iter().map(|p| p.frictionless()).collect();
-    let j = tangent(
+    let j = problem.on_unknowns(tangent(
         comm,
         problem.stiffness,
         problem.dofs,
         &pairs,
         &SlipHistory::default(),
         u,
-    )?;
+    )?)?;
     Ok(restraint::free_bodies(
         comm,
         &j,
-        problem.dofs,
+        problem.solver_dofs(),
         problem.bodies,
     )?)
+}
+
+/// The forces the constraints apply at an equilibrium `u` (every node, the same on every
+/// rank): the unconstrained residual K u + F_c(u) - lambda F in the full numbering, node by
+/// node. It vanishes (to the solve's tolerance) at every DOF no constraint involves; at a
+/// prescribed DOF it is the reaction force; around an `*EQUATION` or a coupling, the tie's
+/// forces (they balance each other). Supported DOFs are eliminated: 0 there. Collective.
+pub fn constraint_forces<'rt>(
+    comm: Comm<'rt>,
+    problem: &StaticProblem<'_, 'rt>,
+    slip: &SlipHistory,
+    u: &[[f64; 3]],
+    load_factor: f64,
+) -> Result<Vec<[f64; 3]>, StaticsError> {
+    let dofs = problem.dofs;
+    let owned = dofs.owned_equations();
+    let mut x = Vector::new(comm, owned.len())?;
+    let mut local = vec![0.0; owned.len()];
+    for (n, un) in u.iter().enumerate() {
+        for (c, &value) in un.iter().enumerate() {
+            if let Some(e) = dofs.equation(n, c) {
+                if owned.contains(&e) {
+                    local[e - owned.start] = value;
+                }
+            }
+        }
+    }
+    x.set_local(&local)?;
+    let mut f = x.duplicate()?;
+    problem.stiffness.mult(&x, &mut f)?;
+    f.axpy(-load_factor, problem.load)?;
+    add_contact_forces(comm, &mut f, dofs, problem.pairs, slip, u)?;
+    Ok(node_displacements(&f, dofs)?)
 }
 
 /// Solves the equilibrium from `initial` (a previous solution, or zero). Collective.
@@ -373,13 +441,14 @@ pub fn solve<'rt>(
     options: &StaticOptions,
 ) -> Result<StaticSolution, StaticsError> {
     let dofs = problem.dofs;
-    let owned = dofs.owned_equations();
+    let unknowns = problem.solver_dofs();
+    let owned = unknowns.owned_equations();
     let mut x = Vector::new(comm, owned.len())?;
     if let Some(u0) = initial {
         let mut local = vec![0.0; owned.len()];
         for (n, u) in u0.iter().enumerate() {
             for (c, &value) in u.iter().enumerate() {
-                if let Some(e) = dofs.equation(n, c) {
+                if let Some(e) = unknowns.equation(n, c) {
                     if owned.contains(&e) {
                         local[e - owned.start] = value;
                     }
@@ -389,16 +458,16 @@ pub fn solve<'rt>(
         x.set_local(&local)?;
     }
     if !problem.bodies.is_empty() {
-        let u0 = node_displacements(&x, dofs)?;
-        let j0 = tangent(
+        let u0 = problem.displacements(&x, 0.0)?;
+        let j0 = problem.on_unknowns(tangent(
             comm,
             problem.stiffness,
             dofs,
             problem.pairs,
             problem.slip,
             &u0,
-        )?;
-        let free = restraint::free_bodies(comm, &j0, dofs, problem.bodies)?;
+        )?)?;
+        let free = restraint::free_bodies(comm, &j0, unknowns, problem.bodies)?;
         if !free.is_empty() {
             return Err(StaticsError::Unrestrained(free));
         }
@@ -446,7 +515,7 @@ pub fn solve<'rt>(
                 retried = false;
                 // Commit the increment's slip: every rank computes it from the same
                 // replicated displacements.
-                let u = node_displacements(&x, dofs)?;
+                let u = problem.displacements(&x, target)?;
                 let after = committed(&contact_states(problem.pairs, &slip, &u)?);
                 slip_before = std::mem::replace(&mut slip, after);
             }
@@ -481,7 +550,7 @@ pub fn solve<'rt>(
             }
         }
     }
-    let displacement = node_displacements(&x, dofs)?;
+    let displacement = problem.displacements(&x, factor)?;
     let contact = contact_states(problem.pairs, &slip_before, &displacement)?;
     Ok(StaticSolution {
         displacement,
@@ -505,12 +574,32 @@ fn newton<'rt>(
     let k = problem.stiffness;
     let load = problem.load;
     let pairs = problem.pairs;
+    let constraints = problem.constraints;
+    // With constraints the full-numbering residual and tangent are made as without, in
+    // these, then carried to the unknowns.
+    let (mut u_full, mut f_full, mut j_full) = match constraints {
+        Some(t) => (
+            Some(t.full_vector()?),
+            Some(t.full_vector()?),
+            Some(k.duplicate()?),
+        ),
+        None => (None, None, None),
+    };
     let residual = Box::new(move |x: &Vector<'rt>, f: &mut Vector<'rt>| {
-        // R = K x - lambda F + F_c(x)
-        k.mult(x, f).map_err(|e| e.to_string())?;
-        f.axpy(-load_factor, load).map_err(|e| e.to_string())?;
-        let u = node_displacements(x, dofs).map_err(|e| e.to_string())?;
-        add_contact_forces(comm, f, dofs, pairs, slip, &u).map_err(|e| e.to_string())
+        // R = K u - lambda F + F_c(u), u = x (or C x + lambda g, and R carried by C^T)
+        let (Some(t), Some(u_full), Some(f_full)) = (constraints, &mut u_full, &mut f_full) else {
+            k.mult(x, f).map_err(|e| e.to_string())?;
+            f.axpy(-load_factor, load).map_err(|e| e.to_string())?;
+            let u = node_displacements(x, dofs).map_err(|e| e.to_string())?;
+            return add_contact_forces(comm, f, dofs, pairs, slip, &u).map_err(|e| e.to_string());
+        };
+        t.expand_into(x, load_factor, u_full)
+            .map_err(|e| e.to_string())?;
+        k.mult(u_full, f_full).map_err(|e| e.to_string())?;
+        f_full.axpy(-load_factor, load).map_err(|e| e.to_string())?;
+        let u = node_displacements(u_full, dofs).map_err(|e| e.to_string())?;
+        add_contact_forces(comm, f_full, dofs, pairs, slip, &u).map_err(|e| e.to_string())?;
+        t.restrict_into(f_full, f).map_err(|e| e.to_string())
     });
     // A steady-sliding point's tangent depends on u only through whether it is closed
     // (small sliding: fixed normals and directions), and opening or closing changes it by a
@@ -518,8 +607,20 @@ fn newton<'rt>(
     // a factorisation while few points switch.
     let mut previous: Option<Vec<PointTangent>> = None;
     let jacobian = Box::new(move |x: &Vector<'rt>, j: &mut Matrix<'rt>| {
-        let u = node_displacements(x, dofs).map_err(|e| e.to_string())?;
-        let closed = tangent_into(comm, j, k, dofs, pairs, slip, &u).map_err(|e| e.to_string())?;
+        let closed = match (constraints, &mut j_full) {
+            (Some(t), Some(j_full)) => {
+                let full = t.expand(x, load_factor).map_err(|e| e.to_string())?;
+                let u = node_displacements(&full, dofs).map_err(|e| e.to_string())?;
+                let closed = tangent_into(comm, j_full, k, dofs, pairs, slip, &u)
+                    .map_err(|e| e.to_string())?;
+                t.project_into(j_full, j).map_err(|e| e.to_string())?;
+                closed
+            }
+            _ => {
+                let u = node_displacements(x, dofs).map_err(|e| e.to_string())?;
+                tangent_into(comm, j, k, dofs, pairs, slip, &u).map_err(|e| e.to_string())?
+            }
+        };
         let change = match &previous {
             None => JacobianChange::Unknown,
             Some(p) => {
@@ -536,7 +637,10 @@ fn newton<'rt>(
         previous = Some(closed);
         Ok(change)
     });
-    let j = k.duplicate()?;
+    let j = match constraints {
+        Some(t) => t.project(k)?,
+        None => k.duplicate()?,
+    };
     let mut snes = NonlinearSolver::new(comm, residual, jacobian, j, options)?;
     let result = snes.solve(x);
     Ok(result?)

@@ -2,6 +2,8 @@
 //! distributed assembly into PETSc matrices.
 
 pub mod assemble;
+pub mod constraints;
+pub mod distributing;
 pub mod dofs;
 pub mod element;
 pub mod loads;
@@ -9,6 +11,7 @@ pub mod point_mass;
 pub mod springs;
 pub mod stress;
 pub mod tet10;
+pub mod transform;
 
 pub use assemble::{AssemblyError, StructureOptions};
 pub use dofs::{DofError, DofMap, Support};

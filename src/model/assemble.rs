@@ -3,18 +3,31 @@
 //! masses, and the load vector. Made at the last moment, from the plain data of [`Model`].
 
 use super::Model;
+use crate::fem::constraints::ConstraintError;
 use crate::fem::element::MassRule;
 use crate::fem::point_mass::add_point_masses;
 use crate::fem::springs::{add_coupling_springs, add_ground_springs, add_two_node_springs};
+use crate::fem::transform::{Transform, TransformError};
 use crate::fem::{assemble as fem_assemble, AssemblyError, DofError, DofMap, StructureOptions};
 use crate::petsc::{Comm, Matrix, PetscError, Vector};
 
-/// The operators of a model.
+/// The operators of a model, in the full numbering (supports eliminated): K, M and the
+/// load as assembled, with the constraints' transformation to the free unknowns when the
+/// model has constraints.
 pub struct Operators<'rt> {
     pub dofs: DofMap,
     pub stiffness: Matrix<'rt>,
     pub mass: Matrix<'rt>,
     pub load: Vector<'rt>,
+    /// u = C u_free + lambda g (`None`: no constraints, the full numbering is the free one).
+    pub constraints: Option<Transform<'rt>>,
+}
+
+impl<'rt> Operators<'rt> {
+    /// The numbering the solvers see: the free one with constraints, else the full one.
+    pub fn solver_dofs(&self) -> &DofMap {
+        self.constraints.as_ref().map_or(&self.dofs, |t| &t.free)
+    }
 }
 
 #[derive(Debug, thiserror::Error)]
@@ -25,6 +38,10 @@ pub enum AssembleError {
     Assembly(#[from] AssemblyError),
     #[error(transparent)]
     Petsc(#[from] PetscError),
+    #[error(transparent)]
+    Constraints(#[from] ConstraintError),
+    #[error(transparent)]
+    Transform(#[from] TransformError),
     /// This rank's part went well, another's did not: that rank's message.
     #[error("the assembly failed on rank {rank}: {message}")]
     OnAnotherRank { rank: usize, message: String },
@@ -109,10 +126,17 @@ pub fn assemble<'rt>(
         comm,
         fem_assemble::load_vector(comm, mesh, &dofs, &model.pressure_faces(), &model.forces),
     )?;
+    let constraints = if model.constraints.is_empty() {
+        None
+    } else {
+        let resolved = collective(comm, model.resolved_constraints())?;
+        Some(Transform::new(comm, &dofs, &model.supports, &resolved)?)
+    };
     Ok(Operators {
         dofs,
         stiffness,
         mass,
         load,
+        constraints,
     })
 }

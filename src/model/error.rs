@@ -44,6 +44,14 @@ pub enum ModelError {
     BadMaterial { spec: String, why: String },
     #[error("{file}: {why}")]
     Unsupported { file: PathBuf, why: String },
+    #[error(transparent)]
+    Constraints(#[from] crate::fem::constraints::ConstraintError),
+    /// A deck line that cannot be used as written.
+    #[error("{at}: {why}")]
+    AtLine {
+        at: crate::io::abaqus::SourceLine,
+        why: String,
+    },
     /// A study key names something the mesh does not have.
     #[error("{key}: no {what} named '{name}' in {source_name}")]
     Missing {

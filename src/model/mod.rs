@@ -7,6 +7,7 @@
 
 pub mod assemble;
 mod build;
+mod deck_constraints;
 pub mod deck_contact;
 mod error;
 pub mod source;
@@ -16,6 +17,7 @@ pub use assemble::{assemble, Operators};
 pub use error::ModelError;
 
 use crate::contact::ContactPair;
+use crate::fem::constraints::LinearConstraint;
 use crate::fem::point_mass::PointMass;
 use crate::fem::springs::{CouplingSpring, GroundSpring, TwoNodeSpring};
 use crate::fem::Support;
@@ -47,6 +49,10 @@ pub struct Model {
     pub point_masses: Vec<PointMass>,
     /// Springs tying a node to a weighted combination of nodes (distributing couplings).
     pub couplings: Vec<CouplingSpring>,
+    /// Linear multi-point constraints applied exactly (a deck's `*EQUATION`, distributing
+    /// couplings, supports and prescribed displacements in local directions, nonzero
+    /// prescribed displacements), in the order they are eliminated.
+    pub constraints: Vec<LinearConstraint>,
     pub pressures: Vec<Pressure>,
     /// Nodal forces (node, component, value).
     pub forces: Vec<(usize, usize, f64)>,
@@ -81,14 +87,39 @@ impl Model {
         }
     }
 
-    /// The nodes that discrete elements (springs, links, point masses) use: with the
-    /// elements' nodes, every node that has a stiffness or a mass.
+    /// The nodes that discrete elements (springs, links, point masses) and constraints use:
+    /// with the elements' nodes, every node that has a stiffness or a mass or is tied.
     pub fn discrete_nodes(&self) -> impl Iterator<Item = usize> + '_ {
         self.springs
             .iter()
             .map(|s| s.node)
             .chain(self.links.iter().flat_map(|l| l.nodes))
             .chain(self.point_masses.iter().map(|p| p.node))
+            .chain(
+                self.constraints
+                    .iter()
+                    .flat_map(|c| c.terms.iter().map(|t| t.0)),
+            )
+    }
+
+    /// The node's label in its mesh file (the index + 1 of an extra node), for messages.
+    pub fn node_label(&self, node: usize) -> String {
+        match self.mesh.node_labels.get(node) {
+            Some(label) => label.to_string(),
+            None => format!("{} (extra)", node + 1),
+        }
+    }
+
+    /// The constraints solved for their dependent DOFs against the model's supports.
+    pub fn resolved_constraints(
+        &self,
+    ) -> Result<crate::fem::constraints::Resolved, crate::fem::constraints::ConstraintError> {
+        crate::fem::constraints::resolve(
+            &self.constraints,
+            &self.supports,
+            self.node_count(),
+            &|n| self.node_label(n),
+        )
     }
 
     /// Every loaded face with its pressure.

@@ -132,33 +132,11 @@ fn from_deck(path: &Path, deck: abaqus::Deck) -> Result<Model, ModelError> {
         abaqus::Procedure::Frequency(f) => Some((f.eigenvalues, f.upper_frequency)),
         _ => None,
     });
-    let mut held: std::collections::BTreeMap<usize, [bool; 3]> = Default::default();
-    for (&(node, c), &value) in &loading.displacements {
-        if value != 0.0 {
-            return Err(ModelError::Unsupported {
-                file: path.to_path_buf(),
-                why: format!(
-                    "*BOUNDARY prescribes {value} on node {} component {}: squeal supports only \
-                     zero displacements",
-                    deck.mesh.node_labels[node],
-                    c + 1
-                ),
-            });
-        }
-        held.entry(node).or_default()[c] = true;
-    }
-    // One support per distinct component pattern keeps the list short.
-    let mut supports: Vec<Support> = Vec::new();
-    for (node, components) in held {
-        match supports.iter_mut().find(|s| s.components == components) {
-            Some(s) => s.nodes.push(node),
-            None => supports.push(Support {
-                name: format!("*BOUNDARY {components:?}"),
-                nodes: vec![node],
-                components,
-            }),
-        }
-    }
+    let conditions = super::deck_constraints::conditions(
+        &deck,
+        &loading,
+        step.or(deck.steps.len().checked_sub(1)),
+    )?;
     // One load per face: a deck's net face pressures carry no surface names, and a face's
     // resultant is exact (summing them per surface would cancel opposite backplates).
     let pressures = loading
@@ -180,7 +158,7 @@ fn from_deck(path: &Path, deck: abaqus::Deck) -> Result<Model, ModelError> {
         })
         .collect();
     let (springs, links) = deck_springs(&deck);
-    Ok(Model {
+    let model = Model {
         source: path.display().to_string(),
         springs,
         links,
@@ -196,18 +174,18 @@ fn from_deck(path: &Path, deck: abaqus::Deck) -> Result<Model, ModelError> {
         pairs,
         pair_surfaces,
         deck_interactions,
-        supports,
+        supports: conditions.supports,
+        constraints: conditions.constraints,
         pressures,
-        forces: loading
-            .forces
-            .iter()
-            .map(|(&(n, c), &v)| (n, c, v))
-            .collect(),
+        forces: conditions.forces,
         frequency_step,
         warnings: deck.warnings.clone(),
         mesh: deck.mesh,
         ..Default::default()
-    })
+    };
+    // Dependent DOFs taken twice, or also supported, are named now, at their lines.
+    model.resolved_constraints()?;
+    Ok(model)
 }
 
 /// A deck's springs: SPRING1 to ground, SPRING2 and SPRINGA between their two nodes (the

@@ -335,6 +335,44 @@ impl<'rt> Matrix<'rt> {
         Ok(Matrix::from_raw(raw))
     }
 
+    /// P^T self P, a new sparse matrix (collective; MatPtAP with MAT_INITIAL_MATRIX). P's
+    /// rows are laid out like self's rows and columns. The product's pattern comes from
+    /// the patterns of self and P (explicit zeros included), so it holds whatever coupling
+    /// self's pattern holds.
+    pub fn ptap(&self, p: &Matrix<'rt>) -> Result<Matrix<'rt>> {
+        let mut raw = std::ptr::null_mut();
+        // SAFETY: live matrices; PETSc checks the layouts; out-pointer to a local.
+        check(unsafe {
+            sys::MatPtAP(
+                self.raw,
+                p.raw,
+                sys::MAT_INITIAL_MATRIX,
+                sys::PETSC_DEFAULT as f64,
+                &mut raw,
+            )
+        })?;
+        Ok(Matrix::from_raw(raw))
+    }
+
+    /// P^T self P into `out`, which [`Matrix::ptap`] made from P and a matrix of self's
+    /// pattern (collective; MatPtAP with MAT_REUSE_MATRIX, the symbolic product kept).
+    pub fn ptap_into(&self, p: &Matrix<'rt>, out: &mut Matrix<'rt>) -> Result<()> {
+        let mut raw = out.raw;
+        // SAFETY: live matrices; `out` was made by MatPtAP, so it carries the product
+        // data MAT_REUSE_MATRIX needs (PETSc checks it); the handle stays the same.
+        check(unsafe {
+            sys::MatPtAP(
+                self.raw,
+                p.raw,
+                sys::MAT_REUSE_MATRIX,
+                sys::PETSC_DEFAULT as f64,
+                &mut raw,
+            )
+        })?;
+        out.raw = raw;
+        Ok(())
+    }
+
     /// self * t for a dense block t whose rows are laid out like self's columns (collective;
     /// MatMatMult). `t`'s communicator must be the one self lives on.
     pub fn mult_dense(&self, t: &DenseMatrix<'rt>) -> Result<DenseMatrix<'rt>> {

@@ -18,71 +18,13 @@
 use super::grid::ContactGrid;
 use super::ReduceError;
 use crate::mesh::{Mesh, Surface};
-use crate::vector3::{add, cross, norm, scale, sub};
-use serde::{Deserialize, Serialize};
+use crate::vector3::{add, cross, scale, sub};
 
-/// How a coupling node's weight falls with its distance r from the reference point
-/// (`s = r / R`, zero from `s = 1` on).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Weighting {
-    /// `w = 1`: every node within R alike (Abaqus's default).
-    Uniform,
-    /// `w = 1 - s` (eq. 9).
-    Linear,
-    /// `w = 1 - s^2` (eq. 10).
-    Quadratic,
-    /// `w = 1 - 3 s^2 + 2 s^3` (eq. 11): zero slope at both ends.
-    Cubic,
-}
+pub use crate::fem::distributing::Weighting;
 
-impl Weighting {
-    /// The weight at `s = r / R`; 0 for `s >= 1`.
-    pub fn weight(self, s: f64) -> f64 {
-        if s >= 1.0 {
-            return 0.0;
-        }
-        match self {
-            Weighting::Uniform => 1.0,
-            Weighting::Linear => 1.0 - s,
-            Weighting::Quadratic => 1.0 - s * s,
-            Weighting::Cubic => 1.0 - s * s * (3.0 - 2.0 * s),
-        }
-    }
-
-    /// The polynomial degree of the paper's Table 2 (`None` for uniform).
-    pub fn degree(self) -> Option<u32> {
-        match self {
-            Weighting::Uniform => None,
-            Weighting::Linear => Some(1),
-            Weighting::Quadratic => Some(2),
-            Weighting::Cubic => Some(3),
-        }
-    }
-
-    /// The weighting of a Table 2 degree (1, 2, 3).
-    pub fn from_degree(degree: u32) -> Option<Weighting> {
-        match degree {
-            1 => Some(Weighting::Linear),
-            2 => Some(Weighting::Quadratic),
-            3 => Some(Weighting::Cubic),
-            _ => None,
-        }
-    }
-}
-
-/// One surface node of a distributing coupling.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct CouplingNode {
-    /// Index into [`Mesh::nodes`].
-    pub node: usize,
-    /// Its reference coordinates.
-    pub position: [f64; 3],
-    /// Its distance r from the reference point.
-    pub distance: f64,
-    /// Its normalised weight `wbar = w / sum w` (the weights of a coupling add up to 1).
-    pub weight: f64,
-}
+/// One surface node of a distributing coupling (the weights' own type, shared with a deck's
+/// `*DISTRIBUTING`).
+pub type CouplingNode = crate::fem::distributing::CloudNode;
 
 /// A reference point tied to surface nodes by normalised weights.
 #[derive(Clone, Debug, PartialEq)]
@@ -226,40 +168,21 @@ fn couple(
     radius: f64,
     weighting: Weighting,
 ) -> Result<DistributingCoupling, ReduceError> {
-    if !(radius > 0.0 && radius.is_finite()) {
-        return Err(ReduceError::InvalidRadius {
-            reduced_node,
-            radius,
-        });
-    }
-    // Strictly within R: at r = R the weighted forms are 0 anyway, and excluding the sphere
-    // itself keeps "caught" the same set for every weighting.
-    let mut nodes: Vec<CouplingNode> = candidates
-        .iter()
-        .filter_map(|&(node, position)| {
-            let distance = norm(sub(position, reference));
-            (distance < radius).then_some(CouplingNode {
-                node,
-                position,
-                distance,
-                weight: weighting.weight(distance / radius),
-            })
-        })
-        .collect();
-    let collinear = nodes.len() >= 3 && on_one_line(&nodes, radius);
-    if nodes.len() < 3 || collinear {
-        return Err(ReduceError::TooFewCouplingNodes {
-            reduced_node,
-            position: reference,
-            radius,
-            found: nodes.len(),
-            collinear,
-        });
-    }
-    let total: f64 = nodes.iter().map(|c| c.weight).sum();
-    for c in &mut nodes {
-        c.weight /= total;
-    }
+    use crate::fem::distributing::{weigh, CloudError, Radius};
+    let nodes =
+        weigh(candidates, reference, Radius::Within(radius), weighting).map_err(|e| match e {
+            CloudError::InvalidRadius { .. } => ReduceError::InvalidRadius {
+                reduced_node,
+                radius,
+            },
+            CloudError::TooFew { found, collinear } => ReduceError::TooFewCouplingNodes {
+                reduced_node,
+                position: reference,
+                radius,
+                found,
+                collinear,
+            },
+        })?;
     Ok(DistributingCoupling {
         reduced_node,
         reference,
@@ -269,32 +192,12 @@ fn couple(
     })
 }
 
-/// Relative size below which the caught nodes count as on one line: the triangle they span
-/// at best is smaller than this fraction of R^2 (round-off on nodes placed along an edge is
-/// some 1e-16 R^2; a real triangle of nodes within R spans far more).
-const COLLINEAR_AREA: f64 = 1e-10;
-
-/// True when all the nodes lie on one line: from the node farthest from the first, the
-/// largest triangle any third node spans with those two is negligible.
-fn on_one_line(nodes: &[CouplingNode], radius: f64) -> bool {
-    let a = nodes[0].position;
-    let b = nodes
-        .iter()
-        .map(|c| c.position)
-        .max_by(|p, q| norm(sub(*p, a)).total_cmp(&norm(sub(*q, a))))
-        .unwrap_or(a);
-    let largest = nodes
-        .iter()
-        .map(|c| 0.5 * norm(cross(sub(b, a), sub(c.position, a))))
-        .fold(0.0, f64::max);
-    largest <= COLLINEAR_AREA * radius * radius
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::mesh::block::block;
     use crate::mesh::Material;
+    use crate::vector3::norm;
 
     fn plate() -> Mesh {
         let material = Material {

@@ -57,6 +57,13 @@ pub enum ReduceError {
         "a reduced interface replaces the swept (disc/pad) pairs, and no pair has sweep = true"
     )]
     NothingToReduce,
+    /// The reduction layer assembles K and M without the constraints' transformation.
+    #[error(
+        "the model has {count} linear constraint(s) (a deck's *EQUATION, *COUPLING, prescribed \
+         displacements or supports in *TRANSFORM directions, first from {first}): the reduced \
+         contact interface and super-elements do not take constraints; run the full model"
+    )]
+    Constraints { count: usize, first: String },
     /// A swept pair that is not node-to-surface has no surfaces to lay a grid on.
     #[error("pair '{pair}' is not a node-to-surface pair between two surfaces: nothing to reduce")]
     NotNodeToSurface { pair: String },

@@ -214,6 +214,12 @@ pub fn reduce_interface(
     model: &Model,
     settings: &InterfaceSettings,
 ) -> Result<ReducedInterface, ReduceError> {
+    if let Some(first) = model.constraints.first() {
+        return Err(ReduceError::Constraints {
+            count: model.constraints.len(),
+            first: first.source.clone(),
+        });
+    }
     let mut reduced = model.clone();
     let mut pads = Vec::new();
     let swept: Vec<usize> = (0..model.pairs.len()).filter(|&i| model.swept[i]).collect();

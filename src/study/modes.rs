@@ -152,9 +152,16 @@ fn solve_and_write(
     };
     let mesh = &model.mesh;
     let dofs = crate::model::assemble::dof_map(comm, &model)?;
-    // SLEPc's own words for more modes than equations are "Illegal value of nev".
+    // SLEPc's own words for more modes than equations are "Illegal value of nev". The
+    // unknowns are the equations less the DOFs the constraints eliminate.
+    let eliminated = match model.constraints.is_empty() {
+        true => 0,
+        false => model
+            .resolved_constraints()
+            .map_or(0, |r| r.dependents.len()),
+    };
     if let ModeBand::Lowest { count } = band {
-        if count > dofs.equations() {
+        if count > dofs.equations() - eliminated {
             let flag = if args.count.is_some() {
                 "--nev".to_string()
             } else {
@@ -163,7 +170,7 @@ fn solve_and_write(
             return Err(StudyError::TooManyModes {
                 flag,
                 count,
-                equations: dofs.equations(),
+                equations: dofs.equations() - eliminated,
             }
             .collective());
         }
@@ -184,16 +191,31 @@ fn solve_and_write(
     let crate::model::Operators {
         stiffness: k,
         mass: m,
+        constraints,
         ..
     } = crate::model::assemble(comm, &model, args.mass_rule)?;
+    // With constraints: the modes of C^T K C and C^T M C, shapes back through u = C x.
+    let (k, m) = match &constraints {
+        None => (k, m),
+        Some(t) => (t.project(&k)?, t.project(&m)?),
+    };
+    let unknowns = constraints.as_ref().map_or(&dofs, |t| &t.free);
     if root {
         tracing::info!("assembled K and M in {:.2} s", t.elapsed().as_secs_f64());
+        if let Some(t) = &constraints {
+            tracing::info!(
+                "{} DOFs eliminated by {} constraint(s): {} unknowns",
+                t.dependents,
+                model.constraints.len(),
+                unknowns.equations()
+            );
+        }
     }
     // The bodies' free motions (6 per unsupported body, fewer when partly held) say how
     // many rigid-body modes to expect; the eigenvalues' own gap confirms it.
     let free = collective(
         comm,
-        restraint::free_bodies(comm, &k, &dofs, &restraint::bodies(mesh)),
+        restraint::free_bodies(comm, &k, unknowns, &restraint::bodies(mesh)),
     )?;
     let expected_rigid_modes = free.iter().map(|b| b.motions.len()).sum();
     let t = Instant::now();
@@ -219,7 +241,10 @@ fn solve_and_write(
     // Shapes to rank 0 (collective), then rank 0 writes everything.
     let mut shapes = Vec::with_capacity(solution.shapes.len());
     for s in &solution.shapes {
-        shapes.push(s.gather_to_zero()?);
+        match &constraints {
+            None => shapes.push(s.gather_to_zero()?),
+            Some(t) => shapes.push(t.expand(s, 0.0)?.gather_to_zero()?),
+        }
     }
     if !root {
         return Ok(None);
@@ -229,7 +254,7 @@ fn solve_and_write(
         source: model.source.clone(),
         nodes: mesh.nodes.len(),
         elements: mesh.elements.len(),
-        equations: dofs.equations(),
+        equations: unknowns.equations(),
         ranks: comm.size(),
         mass_rule: args.mass_rule,
         parts: mesh

@@ -57,6 +57,13 @@ fn write(model: &Model, msh: &Path, vtu: &Path) -> Result<(), StudyError> {
             model.point_masses.len()
         );
     }
+    if !model.constraints.is_empty() {
+        println!(
+            "not written: the deck's {} linear constraint(s) (*EQUATION, *COUPLING, prescribed \
+             displacements and supports in *TRANSFORM directions: a .msh holds none)",
+            model.constraints.len()
+        );
+    }
     println!("wrote {} and {}", msh.display(), vtu.display());
     Ok(())
 }

@@ -154,6 +154,8 @@ pub(super) struct BoundaryDraft {
     pub(super) first_dof: u8,
     pub(super) last_dof: u8,
     pub(super) value: f64,
+    /// `*BOUNDARY, FIXED`.
+    pub(super) fixed: bool,
     pub(super) loc: Loc,
 }
 
@@ -366,10 +368,15 @@ pub(super) enum Block {
         adjust: Option<f64>,
         small_sliding: bool,
     },
-    Boundary,
+    Boundary {
+        /// `*BOUNDARY, FIXED`: held at the displacement the step starts from.
+        fixed: bool,
+    },
     ConcentratedLoad,
     SurfacePressure,
     ElementPressure,
+    /// `*EQUATION`, `*TRANSFORM`, `*DISTRIBUTING` ([`super::constraint_lines`]).
+    Constraint(super::constraint_lines::ConstraintBlock),
 }
 
 /// Occurrences of something to warn about, by key: count and first place.

@@ -54,10 +54,6 @@ pub(super) fn refused(name: &str) -> Option<&'static str> {
              assemblies in input files)"
         }
         "SYSTEM" => "*SYSTEM would move the nodes that follow; give global coordinates instead",
-        "TRANSFORM" => {
-            "*TRANSFORM (local DOF directions) is not supported; give supports and loads in \
-             global directions"
-        }
         "CONTACT" | "CONTACTINCLUSIONS" | "CONTACTPROPERTYASSIGNMENT" => {
             "Abaqus general contact is not supported (skipping it would lose every contact): \
              give the interfaces as *CONTACT PAIR, TYPE=NODE TO SURFACE"
@@ -145,6 +141,9 @@ impl Reader {
             "SURFACEBEHAVIOR" => self.surface_behavior_keyword(&mut kw)?,
             "FRICTION" => self.friction_keyword(&mut kw)?,
             "CONTACTPAIR" => self.contact_pair_keyword(&mut kw)?,
+            "EQUATION" | "TRANSFORM" | "COUPLING" | "DISTRIBUTING" | "KINEMATIC" => {
+                self.constraint_keyword(&mut kw)?
+            }
             "STEP" => self.step_keyword(&mut kw)?,
             "ENDSTEP" => {
                 let Some(step) = self.step.take() else {
@@ -199,7 +198,15 @@ impl Reader {
                 if self.op_new(&mut kw)? {
                     self.replaced(|r| r.boundaries = true);
                 }
-                Block::Boundary
+                let fixed = kw.flag("FIXED");
+                if fixed && self.step.is_none() {
+                    return Err(self.err(
+                        kw.loc,
+                        "*BOUNDARY, FIXED holds the displacement a step starts from: it \
+                         belongs in a step",
+                    ));
+                }
+                Block::Boundary { fixed }
             }
             "CLOAD" => {
                 if self.op_new(&mut kw)? {
@@ -265,6 +272,11 @@ impl Reader {
                 | "SURFACEBEHAVIOR"
                 | "FRICTION"
                 | "CONTACTPAIR"
+                | "EQUATION"
+                | "TRANSFORM"
+                | "COUPLING"
+                | "DISTRIBUTING"
+                | "KINEMATIC"
                 | "STEP"
                 | "ENDSTEP"
                 | "STATIC"
@@ -420,7 +432,10 @@ impl Reader {
         }
         let name = Name::new(&self.required(kw, "NSET")?);
         let generate = kw.flag("GENERATE");
-        kw.flag("UNSORTED");
+        if kw.flag("UNSORTED") {
+            // Only an *EQUATION's node-by-node pairing depends on the order.
+            self.constraints.unsorted.insert(name.canon.clone(), kw.loc);
+        }
         kw.flag("INTERNAL");
         let mut members = SetDraft::new(&name.written);
         if let Some(elset) = self.param(kw, "ELSET")? {

@@ -42,7 +42,12 @@ impl Reader {
         }
     }
 
-    pub(super) fn boundary_line(&mut self, text: &str, loc: Loc) -> Result<(), MeshError> {
+    pub(super) fn boundary_line(
+        &mut self,
+        text: &str,
+        loc: Loc,
+        fixed: bool,
+    ) -> Result<(), MeshError> {
         let f = data_fields(text);
         if f.len() < 2 || f.len() > 4 {
             return Err(self.err(
@@ -66,6 +71,12 @@ impl Reader {
         let (first, last, value) = if let Some((first, last)) = named {
             if f.len() > 2 {
                 return Err(self.err(loc, format!("*BOUNDARY: {} takes no further fields", f[1])));
+            }
+            // All but PINNED also hold rotations.
+            if !f[1].eq_ignore_ascii_case("PINNED") {
+                self.constraints
+                    .rotational
+                    .push((f[0].to_string(), "*BOUNDARY", loc));
             }
             (first, last, 0.0)
         } else {
@@ -111,6 +122,9 @@ impl Reader {
                 .unwrap_or(0.0);
             if last > 3 {
                 self.rotational_dofs.add("*BOUNDARY", loc);
+                self.constraints
+                    .rotational
+                    .push((f[0].to_string(), "*BOUNDARY", loc));
             }
             if first > 3 {
                 return Ok(());
@@ -121,7 +135,9 @@ impl Reader {
             target,
             first_dof: first,
             last_dof: last,
-            value,
+            // FIXED: the value is the step's starting displacement, whatever is written.
+            value: if fixed { 0.0 } else { value },
+            fixed,
             loc,
         });
         Ok(())
@@ -141,6 +157,9 @@ impl Reader {
         let target = self.node_ref(f[0], loc)?;
         let value = self.number(f[2], loc, "force")?;
         let Some(dof) = self.dof(f[1], "*CLOAD", loc)? else {
+            self.constraints
+                .rotational
+                .push((f[0].to_string(), "*CLOAD", loc));
             return Ok(());
         };
         self.loads().loads.push(LoadDraft {

@@ -20,12 +20,13 @@
 //! | `*STEP` ... `*END STEP`, `*STATIC`, `*FREQUENCY` | [`Step`] |
 //! | `*SURFACE INTERACTION, NAME=` with `*SURFACE BEHAVIOR` (`PRESSURE-OVERCLOSURE=LINEAR` slope, `HARD`, `NO SEPARATION`) and `*FRICTION` (mu, stick slope) | [`SurfaceInteraction`] |
 //! | `*CONTACT PAIR, INTERACTION=, TYPE=NODE TO SURFACE` (`SMALL SLIDING`, `ADJUST=` distance) | [`DeckContactPair`] (element- or node-based slave) |
+//! | `*EQUATION` (node sets expanded), `*TRANSFORM, NSET=, TYPE=R \| C`, `*COUPLING, REF NODE=, SURFACE=` + `*DISTRIBUTING` | [`Equation`], [`DeckTransform`], [`DeckCoupling`] (`constraint_lines.rs`) |
 //!
 //! `INPUT=` on a data keyword (`*NODE, INPUT=nodes.inp`) reads its data lines from that file.
 //! A keyword line ending with a comma continues on the next line. Other keywords (`*OUTPUT`,
 //! `*NODE FILE`, `*TIE`, ...) are skipped with their data lines and listed, with
 //! counts and the first place each appeared, in ONE warning. Keywords that would silently change
-//! geometry or load directions if skipped (`*PART`/`*INSTANCE`, `*SYSTEM`, `*TRANSFORM`, node and
+//! geometry or load directions if skipped (`*PART`/`*INSTANCE`, `*SYSTEM`, node and
 //! element generation, Abaqus general contact, contact clearances) are refused with an error
 //! instead.
 //!
@@ -83,6 +84,7 @@
 //! to the model), `records.rs` (the public records) and `steps.rs` (what is in force in a
 //! step).
 
+mod constraint_lines;
 mod contact_lines;
 mod discrete_lines;
 mod drafts;
@@ -104,6 +106,9 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
 
 use crate::mesh::{Mesh, MeshError};
+pub use constraint_lines::{
+    DeckCoupling, DeckTransform, DistributingWeighting, Equation, EquationTerm, TransformKind,
+};
 use reader::Reader;
 pub use records::{
     Boundary, ConcentratedLoad, DeckContactPair, DeckMass, DeckSpring, FrequencyRequest,
@@ -140,6 +145,12 @@ pub struct Deck {
     pub interactions: BTreeMap<String, SurfaceInteraction>,
     /// `*CONTACT PAIR` data lines, in the order written.
     pub contact_pairs: Vec<DeckContactPair>,
+    /// `*EQUATION`s, node sets expanded, in the order written.
+    pub equations: Vec<Equation>,
+    /// `*TRANSFORM`s (no node in two).
+    pub transforms: Vec<DeckTransform>,
+    /// `*COUPLING` + `*DISTRIBUTING`, one per reference node.
+    pub couplings: Vec<DeckCoupling>,
     /// Things a person should know: skipped keywords, ignored parameters and DOFs...
     pub warnings: Vec<String>,
 }

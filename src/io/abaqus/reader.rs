@@ -47,6 +47,9 @@ pub(super) struct Reader {
     /// Differences between the deck's contact law and squeal's, for one warning.
     pub(super) contact_notes: Tally,
 
+    /// `*EQUATION`, `*TRANSFORM`, `*COUPLING` drafts.
+    pub(super) constraints: super::constraint_lines::ConstraintDrafts,
+
     pub(super) model: LoadDrafts,
     pub(super) step: Option<StepDraft>,
     pub(super) steps: Vec<StepDraft>,
@@ -89,6 +92,7 @@ impl Reader {
             interaction: None,
             contact_pairs: Vec::new(),
             contact_notes: Tally::default(),
+            constraints: Default::default(),
             model: LoadDrafts::default(),
             step: None,
             steps: Vec::new(),
@@ -289,7 +293,14 @@ impl Reader {
                     (interaction.clone(), *adjust, *small_sliding);
                 self.contact_pair_line(interaction, adjust, small_sliding, text, loc)
             }
-            Block::Boundary => self.boundary_line(text, loc),
+            Block::Boundary { fixed } => {
+                let fixed = *fixed;
+                self.boundary_line(text, loc, fixed)
+            }
+            Block::Constraint(kind) => {
+                let kind = *kind;
+                self.constraint_line(kind, text, loc)
+            }
             Block::ConcentratedLoad => self.load_line(text, loc),
             Block::SurfacePressure => self.surface_pressure_line(text, loc),
             Block::ElementPressure => self.element_pressure_line(text, loc),

@@ -38,6 +38,8 @@ pub struct Boundary {
     pub first_dof: u8,
     pub last_dof: u8,
     pub value: f64,
+    /// `*BOUNDARY, FIXED`: held at the displacement the step starts from (`value` 0).
+    pub fixed: bool,
     pub source: SourceLine,
 }
 

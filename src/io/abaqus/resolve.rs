@@ -85,11 +85,16 @@ impl Reader {
             });
         }
 
+        let (equations, transforms, couplings) =
+            self.resolve_constraints(&mesh, &self.node_surfaces.keys().cloned().collect())?;
         let interactions = self.resolve_interactions()?;
         let contact_pairs = self.resolve_contact_pairs(&mesh, &interactions)?;
 
         self.collect_warnings();
         Ok(Deck {
+            equations,
+            transforms,
+            couplings,
             interactions,
             contact_pairs,
             mesh,
@@ -407,6 +412,7 @@ impl Reader {
                 first_dof: b.first_dof,
                 last_dof: b.last_dof,
                 value: b.value,
+                fixed: b.fixed,
                 source: self.lines.source(b.loc),
             });
         }

@@ -10,8 +10,12 @@ use crate::mesh::{Face, Mesh};
 /// The supports and loads in force, resolved to nodes and faces.
 #[derive(Clone, Debug, PartialEq, Default)]
 pub struct Loading {
-    /// Prescribed displacement per (node index, component 0..3).
+    /// Prescribed displacement per (node index, component 0..3), the component in the
+    /// node's `*TRANSFORM` system when it has one.
     pub displacements: BTreeMap<(usize, usize), f64>,
+    /// The DOFs of `displacements` held by `*BOUNDARY, FIXED` (at the displacement the step
+    /// starts from; their value above is 0), with the step (0-based) that fixed them.
+    pub fixed: BTreeMap<(usize, usize), usize>,
     /// Concentrated force per (node index, component 0..3).
     pub forces: BTreeMap<(usize, usize), f64>,
     /// Net pressure per face (Abaqus sign), sorted by (element, side).
@@ -27,6 +31,7 @@ impl Deck {
             &self.boundaries,
             &self.concentrated_loads,
             &self.pressures,
+            None,
         );
         state.finish(&self.mesh)
     }
@@ -41,20 +46,25 @@ impl Deck {
             &self.boundaries,
             &self.concentrated_loads,
             &self.pressures,
+            None,
         );
-        for earlier in self.steps[..step].iter().filter(|s| !s.perturbation) {
-            state.apply(
-                &earlier.replaced,
-                &earlier.boundaries,
-                &earlier.concentrated_loads,
-                &earlier.pressures,
-            );
+        for (k, earlier) in self.steps[..step].iter().enumerate() {
+            if !earlier.perturbation {
+                state.apply(
+                    &earlier.replaced,
+                    &earlier.boundaries,
+                    &earlier.concentrated_loads,
+                    &earlier.pressures,
+                    Some((k, false)),
+                );
+            }
         }
         state.apply(
             &target.replaced,
             &target.boundaries,
             &target.concentrated_loads,
             &target.pressures,
+            Some((step, target.perturbation)),
         );
         Some(state.finish(&self.mesh))
     }
@@ -63,6 +73,7 @@ impl Deck {
 #[derive(Default)]
 struct LoadState {
     displacements: BTreeMap<(usize, usize), f64>,
+    fixed: BTreeMap<(usize, usize), usize>,
     forces: BTreeMap<(usize, usize), f64>,
     /// `*DSLOAD`s by surface name: a new one on the same surface replaces the old.
     surface_pressures: BTreeMap<String, (Vec<Face>, f64)>,
@@ -71,15 +82,21 @@ struct LoadState {
 }
 
 impl LoadState {
+    /// Applies one step's definitions (`step`: its index and whether it is a perturbation
+    /// step; `None` for model data). A perturbation step's `*BOUNDARY` holds its DOFs at
+    /// zero perturbation: it adds the DOFs it names (at 0) and leaves the value of a DOF
+    /// the base state prescribes.
     fn apply(
         &mut self,
         replaced: &Replaced,
         boundaries: &[Boundary],
         loads: &[ConcentratedLoad],
         pressures: &[PressureLoad],
+        step: Option<(usize, bool)>,
     ) {
         if replaced.boundaries {
             self.displacements.clear();
+            self.fixed.clear();
         }
         if replaced.concentrated_loads {
             self.forces.clear();
@@ -90,11 +107,24 @@ impl LoadState {
         if replaced.element_pressures {
             self.element_pressures.clear();
         }
+        let perturbation = step.is_some_and(|(_, p)| p);
         for b in boundaries {
             for &n in &b.nodes {
                 for dof in b.first_dof..=b.last_dof {
-                    self.displacements
-                        .insert((n, usize::from(dof) - 1), b.value);
+                    let key = (n, usize::from(dof) - 1);
+                    if perturbation {
+                        self.displacements.entry(key).or_insert(0.0);
+                        continue;
+                    }
+                    self.displacements.insert(key, b.value);
+                    match step {
+                        Some((k, _)) if b.fixed => {
+                            self.fixed.insert(key, k);
+                        }
+                        _ => {
+                            self.fixed.remove(&key);
+                        }
+                    }
                 }
             }
         }
@@ -127,6 +157,7 @@ impl LoadState {
         }
         Loading {
             displacements: self.displacements,
+            fixed: self.fixed,
             forces: self.forces,
             pressures: net
                 .into_iter()

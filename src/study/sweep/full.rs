@@ -26,6 +26,9 @@ use std::time::Instant;
 pub struct FullModel<'rt> {
     pub model: Model,
     operators: Operators<'rt>,
+    /// C^T M C of a model with constraints, made at its first CEA.
+    free_mass: Option<Matrix<'rt>>,
+    /// Rayleigh damping, on the solver's unknowns.
     damping: Option<Matrix<'rt>>,
     bodies: Vec<Body>,
     /// Equations on which mode shapes are compared for tracking: every DOF of the swept
@@ -118,9 +121,12 @@ impl<'rt> FullModel<'rt> {
             }
         }
         let operators = model::assemble(comm, &model, study.analysis.mass_rule)?;
-        let damping = match study.analysis.damping {
-            Some(d) => Some(d.matrix(&operators.stiffness, &operators.mass)?),
-            None => None,
+        let damping = match (study.analysis.damping, &operators.constraints) {
+            (Some(d), None) => Some(d.matrix(&operators.stiffness, &operators.mass)?),
+            (Some(d), Some(t)) => {
+                Some(t.project(&d.matrix(&operators.stiffness, &operators.mass)?)?)
+            }
+            (None, _) => None,
         };
         let cea = CeaOptions {
             max_frequency_hz: study.analysis.max_frequency_hz,
@@ -159,6 +165,7 @@ impl<'rt> FullModel<'rt> {
             bodies: restraint::bodies(&model.mesh),
             model,
             operators,
+            free_mass: None,
             damping: None,
             tracked_equations,
             cea,
@@ -296,6 +303,7 @@ impl<'rt> FullModel<'rt> {
             pairs: &self.model.pairs,
             slip: start.map_or(&no_slip, |p| &p.slip),
             bodies: &self.bodies,
+            constraints: self.operators.constraints.as_ref(),
         };
         statics::solve(
             comm,
@@ -326,6 +334,7 @@ impl<'rt> FullModel<'rt> {
             pairs: &self.model.pairs,
             slip: &SlipHistory::default(),
             bodies: &self.bodies,
+            constraints: self.operators.constraints.as_ref(),
         };
         let rest = vec![[0.0; 3]; self.model.node_count()];
         for free in statics::held_only_by_friction(comm, &problem, &rest)? {
@@ -335,6 +344,42 @@ impl<'rt> FullModel<'rt> {
             );
         }
         Ok(())
+    }
+
+    /// With constraints, the forces they apply at `equilibrium` (every node); `None`
+    /// without. Collective.
+    fn constraint_forces(
+        &self,
+        comm: Comm<'rt>,
+        equilibrium: &statics::StaticSolution,
+    ) -> Result<Option<Vec<[f64; 3]>>, statics::StaticsError> {
+        let Operators {
+            dofs,
+            stiffness,
+            load,
+            constraints,
+            ..
+        } = &self.operators;
+        if constraints.is_none() {
+            return Ok(None);
+        }
+        let problem = StaticProblem {
+            dofs,
+            stiffness,
+            load,
+            pairs: &self.model.pairs,
+            slip: &equilibrium.slip_before,
+            bodies: &self.bodies,
+            constraints: constraints.as_ref(),
+        };
+        statics::constraint_forces(
+            comm,
+            &problem,
+            &equilibrium.slip_before,
+            &equilibrium.displacement,
+            1.0,
+        )
+        .map(Some)
     }
 
     /// The last equilibrium solved, as a checkpoint keeps it.
@@ -486,7 +531,7 @@ impl<'rt> FrictionModel<'rt> for FullModel<'rt> {
             source: self.model.source.clone(),
             nodes: self.model.node_count(),
             elements: mesh.elements.len(),
-            equations: self.operators.dofs.equations(),
+            equations: self.operators.solver_dofs().equations(),
             ranks: self.ranks,
             pairs: self
                 .model
@@ -512,6 +557,9 @@ impl<'rt> FrictionModel<'rt> for FullModel<'rt> {
         let t_static = Instant::now();
         let equilibrium = self.static_at(comm, mu)?;
         let u = &equilibrium.displacement;
+        let constraint_forces = self
+            .constraint_forces(comm, &equilibrium)
+            .map_err(|source| StudyError::Static { mu, source })?;
         let mut contact_reports = Vec::new();
         let mut normal_total = 0.0;
         let slip = &equilibrium.slip_before;
@@ -535,6 +583,7 @@ impl<'rt> FrictionModel<'rt> for FullModel<'rt> {
             dofs,
             stiffness: k,
             mass: m,
+            constraints,
             ..
         } = &mut self.operators;
         tracing::debug!(
@@ -545,18 +594,40 @@ impl<'rt> FrictionModel<'rt> for FullModel<'rt> {
         // K_t = K + dF_c/dU is formed in K itself and taken out after the CEA: on the
         // industrial preset a separate tangent is 0.5 GB more at the memory peak, and K
         // comes back to within one rounding per entry, far below anything the next static
-        // solve resolves.
+        // solve resolves. With constraints the CEA is of C^T K_t C and C^T M C.
         let tangent = |source| StudyError::Tangent { mu, source };
         statics::add_contact_tangent(comm, k, dofs, &self.model.pairs, slip, u, 1.0)
             .map_err(tangent)?;
-        let result = collective(
-            comm,
-            cea::solve(comm, k, m, self.damping.as_ref(), &self.cea)
-                .map_err(|source| StudyError::CeaAt { mu, source }),
-        );
+        let result = match constraints {
+            None => collective(
+                comm,
+                cea::solve(comm, k, m, self.damping.as_ref(), &self.cea)
+                    .map_err(|source| StudyError::CeaAt { mu, source }),
+            ),
+            Some(t) => {
+                if self.free_mass.is_none() {
+                    self.free_mass = Some(t.project(m)?);
+                }
+                let kt = t.project(k)?;
+                let free_mass = self.free_mass.as_ref().expect("made above");
+                collective(
+                    comm,
+                    cea::solve(comm, &kt, free_mass, self.damping.as_ref(), &self.cea)
+                        .map_err(|source| StudyError::CeaAt { mu, source }),
+                )
+            }
+        };
         statics::add_contact_tangent(comm, k, dofs, &self.model.pairs, slip, u, -1.0)
             .map_err(tangent)?;
-        let result = result?;
+        let mut result = result?;
+        // Shapes of a constrained model in the full numbering: u = C x (no offset: a
+        // perturbation holds the prescribed DOFs).
+        if let Some(t) = constraints {
+            for (re, im) in &mut result.shapes {
+                *re = t.expand(re, 0.0)?;
+                *im = t.expand(im, 0.0)?;
+            }
+        }
         let cea_seconds = t_cea.elapsed().as_secs_f64();
         // Friction moves modes little from one point to the next: the next CEA sizes its
         // first window on this one's count.
@@ -617,8 +688,12 @@ impl<'rt> FrictionModel<'rt> for FullModel<'rt> {
             peak_rss_mib_all_ranks: peak_sum[0],
             superelement: None,
         };
-        let fields = root
-            .then(|| self.point_fields(&equilibrium.displacement, &equilibrium.contact, unstable));
+        let fields = root.then(|| {
+            let mut fields =
+                self.point_fields(&equilibrium.displacement, &equilibrium.contact, unstable);
+            fields.constraint_forces = constraint_forces.map(|f| mesh_part(f, &self.model.mesh));
+            fields
+        });
         Ok(PointOutcome {
             report,
             tracking_shapes,
@@ -781,6 +856,7 @@ impl FullModel<'_> {
             contact_closed,
             contact_state,
             unstable,
+            constraint_forces: None,
         }
     }
 }

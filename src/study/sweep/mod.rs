@@ -105,6 +105,9 @@ pub struct PointFields {
     /// Nodal von Mises stress of the static displacement (Pa in SI).
     pub von_mises: Vec<f64>,
     pub unstable: Vec<UnstableShape>,
+    /// A model with constraints: the forces they apply at each mesh node at the equilibrium
+    /// (the reactions of prescribed displacements; 0 at nodes no constraint involves).
+    pub constraint_forces: Option<Vec<[f64; 3]>>,
 }
 
 /// One friction value's results from any kind of model.

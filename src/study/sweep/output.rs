@@ -264,6 +264,9 @@ pub fn write_point(
         Field::scalar("contact_state", fields.contact_state.clone()),
         Field::scalar("von_mises", fields.von_mises.clone()),
     ];
+    if let Some(forces) = &fields.constraint_forces {
+        all.push(Field::vector("constraint_force", forces));
+    }
     for shape in &fields.unstable {
         let name = format!(
             "unstable_{:.1}Hz_{:+.3e}",
