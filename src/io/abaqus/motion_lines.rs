@@ -134,7 +134,8 @@ impl Reader {
             (true, true) => (4, "node set or node, angular speed, node a, node b"),
             (false, _) => (4, "node set or node, first DOF, last DOF, speed"),
         };
-        if f.len() != expected.0 && !(!rotation && f.len() == 3) {
+        let translation_short = !rotation && f.len() == 3;
+        if f.len() != expected.0 && !translation_short {
             return Err(self.err(
                 loc,
                 format!(
