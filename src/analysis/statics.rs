@@ -372,6 +372,20 @@ pub fn solve<'rt>(
     initial: Option<&[[f64; 3]]>,
     options: &StaticOptions,
 ) -> Result<StaticSolution, StaticsError> {
+    solve_from(comm, problem, initial, None, options)
+}
+
+/// [`solve`] with the load going from `start_load` (the load the `initial` equilibrium
+/// carries: a deck's previous step) to `problem.load` over the increments, as a step of
+/// Abaqus or CalculiX ramps from the previous step's loads to its own; `None`: from zero.
+/// Collective.
+pub fn solve_from<'rt>(
+    comm: Comm<'rt>,
+    problem: &StaticProblem<'_, 'rt>,
+    initial: Option<&[[f64; 3]]>,
+    start_load: Option<&Vector<'rt>>,
+    options: &StaticOptions,
+) -> Result<StaticSolution, StaticsError> {
     let dofs = problem.dofs;
     let owned = dofs.owned_equations();
     let mut x = Vector::new(comm, owned.len())?;
@@ -427,7 +441,15 @@ pub fn solve<'rt>(
             Some(f) if retried => f,
             _ => &options.newton,
         };
-        match newton(comm, problem, &slip, target, &mut x, newton_options) {
+        match newton(
+            comm,
+            problem,
+            start_load,
+            &slip,
+            target,
+            &mut x,
+            newton_options,
+        ) {
             Ok(report) => {
                 tracing::info!(
                     "load factor {target:.3}: {} Newton iterations ({} factorisations), residual {}",
@@ -496,6 +518,7 @@ pub fn solve<'rt>(
 fn newton<'rt>(
     comm: Comm<'rt>,
     problem: &StaticProblem<'_, 'rt>,
+    start_load: Option<&Vector<'rt>>,
     slip: &SlipHistory,
     load_factor: f64,
     x: &mut Vector<'rt>,
@@ -506,9 +529,13 @@ fn newton<'rt>(
     let load = problem.load;
     let pairs = problem.pairs;
     let residual = Box::new(move |x: &Vector<'rt>, f: &mut Vector<'rt>| {
-        // R = K x - lambda F + F_c(x)
+        // R = K x - lambda F - (1 - lambda) F_start + F_c(x)
         k.mult(x, f).map_err(|e| e.to_string())?;
         f.axpy(-load_factor, load).map_err(|e| e.to_string())?;
+        if let Some(start) = start_load {
+            f.axpy(load_factor - 1.0, start)
+                .map_err(|e| e.to_string())?;
+        }
         let u = node_displacements(x, dofs).map_err(|e| e.to_string())?;
         add_contact_forces(comm, f, dofs, pairs, slip, &u).map_err(|e| e.to_string())
     });
