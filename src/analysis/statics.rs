@@ -315,6 +315,51 @@ pub fn add_contact_tangent<'rt>(
     Ok(closed)
 }
 
+/// Adds `scale` times the contact tangent of a perturbation step about the equilibrium
+/// `u` (a CEA, a `*FREQUENCY` after a `*STATIC`) into `j`, and assembles: the consistent
+/// tangent of the equilibrium's last increment (history `before`), except for pairs with
+/// CalculiX's law, which take CalculiX's perturbation tangent (the committed history
+/// `after`, and the stick slope across a steady-sliding point's direction:
+/// [`contact::variant`]). Collective.
+#[allow(clippy::too_many_arguments)]
+pub fn add_perturbation_tangent<'rt>(
+    comm: Comm<'rt>,
+    j: &mut Matrix<'rt>,
+    dofs: &DofMap,
+    pairs: &[ContactPair],
+    before: &SlipHistory,
+    after: &SlipHistory,
+    u: &[[f64; 3]],
+    scale: f64,
+) -> Result<(), StaticsError> {
+    let history = contact::perturbation_history(pairs, before, after);
+    add_contact_tangent(comm, j, dofs, pairs, &history, u, scale)?;
+    if pairs.iter().all(|p| p.settings.calculix.is_none()) {
+        return Ok(());
+    }
+    let mut failure = None;
+    for (pair, point, anchor) in owned_points(pairs, &history, dofs) {
+        match contact::point_state(pair, point, anchor, u) {
+            Ok(state) => {
+                if let Some(mut c) = contact::variant::across_sliding(pair, point, &state) {
+                    c.jacobian.iter_mut().for_each(|v| *v *= scale);
+                    j.add_block(
+                        &equations(dofs, &c.nodes),
+                        &equations(dofs, &c.nodes),
+                        &c.jacobian,
+                    )?;
+                }
+            }
+            Err(e) => {
+                failure = Some(e);
+                break;
+            }
+        }
+    }
+    j.assemble()?;
+    collective_failure(comm, failure)
+}
+
 /// The tangent stiffness K_t = K + dF_c/dU at `u`, as a new matrix. Collective.
 pub fn tangent<'rt>(
     comm: Comm<'rt>,

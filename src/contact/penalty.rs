@@ -147,7 +147,9 @@ fn state_and_tangential(
 fn normal_law(pair: &ContactPair, point: &ContactPoint, gap: f64) -> (bool, f64, f64) {
     let stiffness = pair.penalty * point.area;
     match pair.settings.calculix {
-        Some(law) if pair.settings.separation => law.normal(pair.penalty, point.area, gap),
+        Some(law) if pair.settings.separation => {
+            law.normal(pair.penalty, point.area, point.initial_gap, gap)
+        }
         _ => {
             let closed = !pair.settings.separation || gap <= 0.0;
             let force = if closed { -stiffness * gap } else { 0.0 };

@@ -13,9 +13,10 @@
 //!    CalculiX, `p = K d (1/2 + atan(d / eps) / pi)` with d the overclosure and
 //!    `eps = pi sigma_inf / K`, sigma_inf the tension at large clearance (the data line's 2nd
 //!    field; blank: the first material's E / 70000, CalculiX's default). It tends to
-//!    `K d - sigma_inf` under load and pulls with up to sigma_inf within
-//!    `c0 sqrt(slave area)` of clearance (c0 the 3rd field, default 1e-3), where CalculiX
-//!    makes a contact spring; farther, nothing. Its slope at the operating point is between
+//!    `K d - sigma_inf` under load and pulls with up to sigma_inf when the node lifts off;
+//!    a slave node has this spring when it starts within `c0 sqrt(slave area)` of the
+//!    master (c0 the 3rd field, default 1e-3: where CalculiX makes the contact element of
+//!    a small-sliding pair), none otherwise. Its slope at the operating point is between
 //!    K/2 and K, so CalculiX's contact is softer than the slope says at low pressure and
 //!    stiffens as the pressure rises (pad on plate: at 1 MPa, about 0.62 K). `HARD` is, in
 //!    CalculiX, this law with K = 50 E (the first material's E). squeal's law is
@@ -28,13 +29,22 @@
 //!    the perturbation tangent from the committed history ([`perturbation_history`]) and
 //!    keeps a point on the cone slipping.
 //!
+//! 4. **Steady sliding in the perturbation step.** CalculiX has no imposed sliding: a pad
+//!    slides when the master is moved under it, and its points then slip on the Coulomb cone,
+//!    with the stick stiffness across the slip direction (item 3). squeal's steady sliding
+//!    (the disc turning under the pad, a `*MOTION`) has no tangential stiffness at all: the
+//!    friction force is mu p along the sliding direction whatever the pad does across it.
+//!    The variant adds the stick slope across the sliding direction, k_t A (I - n n^T -
+//!    t t^T), to the perturbation tangent of a closed steady-sliding point with friction
+//!    ([`across_sliding`]): the tangent of the same point slipping along t in CalculiX.
+//!
 //! Not followed: CalculiX's NLGEOM (it switches it on for contact: stress stiffening of the
 //! perturbation step), its moving normals and projection points (finite-sliding terms of its
 //! tangent, a force over element size: 1e3 N/m against contact stiffnesses of 1e8 N/m on the
 //! pad-on-plate deck), friction on a bilateral (NO SEPARATION) law it does not have.
 
 use super::coulomb::SlipHistory;
-use super::pair::ContactPair;
+use super::pair::{ContactPair, ContactPoint};
 use crate::mesh::{Mesh, Surface};
 use crate::vector3::{cross, norm};
 use std::f64::consts::PI;
@@ -59,13 +69,17 @@ impl ContactVariant {
     }
 }
 
-/// CalculiX's linear pressure-overclosure law of one pair (item 2 of the module doc).
+/// CalculiX's linear pressure-overclosure law of one pair (item 2 of the module doc), and
+/// its stick slope (item 4).
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct CalculixLaw {
     /// sigma_inf, the tension at large clearance (pressure).
     pub tension: f64,
     /// c0: a slave node farther than c0 sqrt(area) from the master has no contact spring.
     pub clearance_factor: f64,
+    /// The `*FRICTION` stick slope (stiffness per unit area); `None`: the penalty / 100.
+    #[serde(default)]
+    pub stick_slope: Option<f64>,
 }
 
 /// CalculiX's default c0.
@@ -81,9 +95,12 @@ pub const MID_WEIGHT: f64 = 332.0 / 999.0;
 impl CalculixLaw {
     /// Whether the point has a contact spring, its normal force and the force's slope
     /// d force / d overclosure, at gap `gap` (negative: overclosure), for a pair of penalty
-    /// `k` per unit area and a point of area `area`.
-    pub fn normal(&self, k: f64, area: f64, gap: f64) -> (bool, f64, f64) {
-        if gap > self.clearance_factor * area.sqrt() {
+    /// `k` per unit area and a point of area `area` and initial gap `initial_gap`. CalculiX
+    /// makes the spring of a slave node within `c0 sqrt(area)` of the master when it pairs
+    /// the surfaces (small sliding: at the start), and the spring then acts at any gap,
+    /// pulling with up to sigma_inf when the node lifts.
+    pub fn normal(&self, k: f64, area: f64, initial_gap: f64, gap: f64) -> (bool, f64, f64) {
+        if initial_gap > self.clearance_factor * area.sqrt() {
             return (false, 0.0, 0.0);
         }
         let d = -gap;
@@ -156,6 +173,54 @@ pub fn perturbation_history(
     )
 }
 
+/// The perturbation stiffness item 4 of the module doc adds at a closed steady-sliding
+/// point with friction of a pair with CalculiX's law: `k_t A (I - n n^T - t t^T)` on the
+/// point's relative displacement (rows and columns of its nodes, slave then master, as
+/// [`super::evaluate`] orders them); `None` elsewhere.
+pub fn across_sliding(
+    pair: &ContactPair,
+    point: &ContactPoint,
+    state: &super::PointState,
+) -> Option<super::PointContribution> {
+    let law = pair.settings.calculix?;
+    let t = point.tangent?;
+    if !state.closed
+        || pair.settings.friction == 0.0
+        || pair.settings.law != super::FrictionLaw::SteadySliding
+    {
+        return None;
+    }
+    let kt = law
+        .stick_slope
+        .unwrap_or(pair.penalty / super::pair::STICK_STIFFNESS_DIVISOR)
+        * point.area;
+    let n = point.normal;
+    let block: [[f64; 3]; 3] = [0, 1, 2]
+        .map(|i| [0, 1, 2].map(|j| kt * (f64::from(u8::from(i == j)) - n[i] * n[j] - t[i] * t[j])));
+    let weights: Vec<(usize, f64)> = point
+        .slave
+        .iter()
+        .copied()
+        .chain(point.master.iter().map(|&(node, w)| (node, -w)))
+        .collect();
+    let size = 3 * weights.len();
+    let mut jacobian = vec![0.0; size * size];
+    for (k, &(_, ck)) in weights.iter().enumerate() {
+        for (m, &(_, cm)) in weights.iter().enumerate() {
+            for i in 0..3 {
+                for j in 0..3 {
+                    jacobian[(3 * k + i) * size + 3 * m + j] = ck * cm * block[i][j];
+                }
+            }
+        }
+    }
+    Some(super::PointContribution {
+        nodes: weights.iter().map(|&(node, _)| node).collect(),
+        residual: vec![0.0; size],
+        jacobian,
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -165,36 +230,38 @@ mod tests {
         let law = CalculixLaw {
             tension: 3e6,
             clearance_factor: 1e-3,
+            stick_slope: None,
         };
         let (k, area) = (1e13, 2e-5);
         // Deep overclosure: K d - sigma_inf per unit area, slope K.
         let d = 1e-4;
-        let (closed, f, slope) = law.normal(k, area, -d);
+        let (closed, f, slope) = law.normal(k, area, 0.0, -d);
         assert!(closed);
         // The next term of the expansion is K d / (3 pi (d / eps)^3), 88 Pa here.
         assert!((f / area - (k * d - 3e6)).abs() < 1e-3 * 3e6, "{f}");
         assert!((slope / (k * area) - 1.0).abs() < 1e-4);
         // At zero gap: no force, half the slope.
-        let (_, f0, s0) = law.normal(k, area, 0.0);
+        let (_, f0, s0) = law.normal(k, area, 0.0, 0.0);
         assert_eq!(f0, 0.0);
         assert!((s0 / (k * area) - 0.5).abs() < 1e-15);
         // The slope is the force's derivative (central difference).
         for d in [-2e-6, -1e-7, 3e-7, 2e-6] {
             let h = 1e-10;
-            let (_, fp, _) = law.normal(k, area, -(d + h));
-            let (_, fm, _) = law.normal(k, area, -(d - h));
-            let (_, _, s) = law.normal(k, area, -d);
+            let (_, fp, _) = law.normal(k, area, 0.0, -(d + h));
+            let (_, fm, _) = law.normal(k, area, 0.0, -(d - h));
+            let (_, _, s) = law.normal(k, area, 0.0, -d);
             assert!(((fp - fm) / (2.0 * h) - s).abs() < 1e-6 * s, "at {d}");
         }
-        // Open within c0 sqrt(A): a pull; farther: nothing.
+        // Lifted off: a pull, up to sigma_inf; a node that starts beyond c0 sqrt(A): nothing.
         let reach = 1e-3 * area.sqrt();
-        let (closed, f, _) = law.normal(k, area, 0.9 * reach);
-        assert!(closed && f < 0.0);
-        assert_eq!(law.normal(k, area, 1.1 * reach), (false, 0.0, 0.0));
+        let (closed, f, _) = law.normal(k, area, 0.0, 10.0 * reach);
+        assert!(closed && f < 0.0 && f > -3e6 * area);
+        assert_eq!(law.normal(k, area, 1.1 * reach, 0.0), (false, 0.0, 0.0));
         // No tension: the linear law.
         let plain = CalculixLaw {
             tension: 0.0,
             clearance_factor: 1e-3,
+            stick_slope: None,
         };
         assert_eq!(
             plain.normal(k, area, -1e-6),

@@ -51,6 +51,7 @@ pub(super) fn calculix_pairs(deck: &Deck, pairs: &[ContactPair]) -> BTreeMap<Str
                 .clearance_factor
                 .filter(|&c| c > 0.0)
                 .unwrap_or(variant::DEFAULT_CLEARANCE_FACTOR),
+            stick_slope: interaction.stick_slope,
         });
         let hard_penalty = match interaction.normal {
             NormalBehavior::Hard => deck.first_young.map(|e| variant::HARD_SLOPE_FACTOR * e),

@@ -50,10 +50,9 @@ fn friction_coupled(model: &Model, states: &[Vec<PointState>]) -> bool {
     })
 }
 
-/// The slip history the tangent about the base state is formed from: the one its last
-/// increment started from (the consistent tangent), or for the CalculiX contact variant the
-/// committed one (as CalculiX's perturbation step re-evaluates the contact from the stored
-/// state: a slipping point then keeps the stick stiffness across its slip direction).
+/// The slip history the contact states about the base state are evaluated with (those of
+/// its last increment; CalculiX's variant: the committed one, see
+/// [`statics::add_perturbation_tangent`]).
 fn tangent_history(model: &Model, base: &BaseState) -> SlipHistory {
     crate::contact::perturbation_history(&model.pairs, &base.slip_before, &base.slip_after)
 }
@@ -73,6 +72,31 @@ fn add_tangent<'rt>(
     statics::add_contact_tangent(comm, stiffness, dofs, pairs, slip, u, scale)
         .map_err(|source| StudyError::DeckStatic { source })?;
     Ok(())
+}
+
+/// Adds `scale` times the perturbation tangent about the base state into the stiffness
+/// ([`statics::add_perturbation_tangent`]). Collective.
+fn add_base_tangent<'rt>(
+    comm: Comm<'rt>,
+    ops: &mut Operators<'rt>,
+    pairs: &[contact::ContactPair],
+    base: &BaseState,
+    scale: f64,
+) -> Result<(), StudyError> {
+    let Operators {
+        dofs, stiffness, ..
+    } = ops;
+    statics::add_perturbation_tangent(
+        comm,
+        stiffness,
+        dofs,
+        pairs,
+        &base.slip_before,
+        &base.slip_after,
+        &base.displacement,
+        scale,
+    )
+    .map_err(|source| StudyError::DeckStatic { source })
 }
 
 /// A `*FREQUENCY` step. Returns the band it computed and the summary line. Collective.
@@ -107,9 +131,9 @@ pub(super) fn frequency(
     let states = statics::contact_states(&model.pairs, &slip, u)
         .map_err(|e| StudyError::DeckStatic { source: e.into() })?;
     if !friction_coupled(model, &states) {
-        add_tangent(comm, &mut ops, &model.pairs, &slip, u, 1.0)?;
+        add_base_tangent(comm, &mut ops, &model.pairs, base, 1.0)?;
         let result = real(comm, model, &ops, &ops.stiffness, &asked, Some(base), out);
-        add_tangent(comm, &mut ops, &model.pairs, &slip, u, -1.0)?;
+        add_base_tangent(comm, &mut ops, &model.pairs, base, -1.0)?;
         return result;
     }
     let band = match request.upper_frequency {
@@ -119,9 +143,9 @@ pub(super) fn frequency(
             ..asked
         },
     };
-    add_tangent(comm, &mut ops, &model.pairs, &slip, u, 1.0)?;
+    add_base_tangent(comm, &mut ops, &model.pairs, base, 1.0)?;
     let result = complex(comm, model, &ops, base, &states, &band, out);
-    add_tangent(comm, &mut ops, &model.pairs, &slip, u, -1.0)?;
+    add_base_tangent(comm, &mut ops, &model.pairs, base, -1.0)?;
     Ok((band, result?))
 }
 
@@ -177,9 +201,9 @@ pub(super) fn complex_frequency(
     let u = &base.displacement;
     let states = statics::contact_states(&model.pairs, &slip, u)
         .map_err(|e| StudyError::DeckStatic { source: e.into() })?;
-    add_tangent(comm, &mut ops, &model.pairs, &slip, u, 1.0)?;
+    add_base_tangent(comm, &mut ops, &model.pairs, base, 1.0)?;
     let result = complex(comm, model, &ops, base, &states, &band, out);
-    add_tangent(comm, &mut ops, &model.pairs, &slip, u, -1.0)?;
+    add_base_tangent(comm, &mut ops, &model.pairs, base, -1.0)?;
     result
 }
 

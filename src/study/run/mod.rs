@@ -273,10 +273,7 @@ fn step_model(
             crate::model::deck_contact::apply_variant(&mut m, args.contact_variant)?;
             Ok(m)
         })
-        .map_err(|source| StudyError::StudyModel {
-            file: args.deck.display().to_string(),
-            source,
-        });
+        .map_err(StudyError::Model);
     let model = collective(comm, local)?;
     if comm.rank() == 0 {
         for w in model.warnings.iter().skip(deck.warnings.len()) {

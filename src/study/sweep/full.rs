@@ -440,13 +440,7 @@ impl<'rt> FrictionModel<'rt> for FullModel<'rt> {
         let u = &equilibrium.displacement;
         let mut contact_reports = Vec::new();
         let mut normal_total = 0.0;
-        // The tangent's history: the last increment's (consistent), or the committed one for
-        // pairs with CalculiX's law (contact::variant).
-        let slip = &contact::perturbation_history(
-            &self.model.pairs,
-            &equilibrium.slip_before,
-            &equilibrium.slip_after,
-        );
+        let slip = &equilibrium.slip_before;
         for ((pair, states), &swept) in self
             .model
             .pairs
@@ -479,14 +473,18 @@ impl<'rt> FrictionModel<'rt> for FullModel<'rt> {
         // comes back to within one rounding per entry, far below anything the next static
         // solve resolves.
         let tangent = |source| StudyError::Tangent { mu, source };
-        statics::add_contact_tangent(comm, k, dofs, &self.model.pairs, slip, u, 1.0)
+        // The tangent of the perturbation: the last increment's consistent one (CalculiX's for
+        // pairs with its law: contact::variant).
+        let after = &equilibrium.slip_after;
+        let pairs = &self.model.pairs;
+        statics::add_perturbation_tangent(comm, k, dofs, pairs, slip, after, u, 1.0)
             .map_err(tangent)?;
         let result = collective(
             comm,
             cea::solve(comm, k, m, self.damping.as_ref(), &self.cea)
                 .map_err(|source| StudyError::CeaAt { mu, source }),
         );
-        statics::add_contact_tangent(comm, k, dofs, &self.model.pairs, slip, u, -1.0)
+        statics::add_perturbation_tangent(comm, k, dofs, pairs, slip, after, u, -1.0)
             .map_err(tangent)?;
         let result = result?;
         let cea_seconds = t_cea.elapsed().as_secs_f64();
