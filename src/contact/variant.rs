@@ -264,10 +264,10 @@ mod tests {
             stick_slope: None,
         };
         assert_eq!(
-            plain.normal(k, area, -1e-6),
+            plain.normal(k, area, 0.0, -1e-6),
             (true, k * area * 1e-6, k * area)
         );
-        assert_eq!(plain.normal(k, area, 1e-9).1, 0.0);
+        assert_eq!(plain.normal(k, area, 0.0, 1e-9).1, 0.0);
     }
 
     #[test]
