@@ -11,7 +11,7 @@ use crate::contact::{self, FrictionLaw, PointState, SlipHistory, Status};
 use crate::fem::element::MassRule;
 use crate::io::abaqus::{ComplexFrequencyRequest, FrequencyRequest};
 use crate::model::{self, Model, Operators};
-use crate::petsc::{Comm, Matrix};
+use crate::petsc::Comm;
 use crate::study::modes::ModelSummary;
 use crate::study::report::collective;
 use crate::study::sweep::{equilibrium_fields, write_fields, PairReport, UnstableShape};
@@ -124,7 +124,7 @@ pub(super) fn frequency(
                 model.pairs.len()
             );
         }
-        return real(comm, model, &ops, &ops.stiffness, &asked, None, out);
+        return real(comm, model, &ops, mass_rule, &asked, None, out);
     };
     let slip = tangent_history(model, base);
     let u = &base.displacement;
@@ -132,7 +132,7 @@ pub(super) fn frequency(
         .map_err(|e| StudyError::DeckStatic { source: e.into() })?;
     if !friction_coupled(model, &states) {
         add_base_tangent(comm, &mut ops, &model.pairs, base, 1.0)?;
-        let result = real(comm, model, &ops, &ops.stiffness, &asked, Some(base), out);
+        let result = real(comm, model, &ops, mass_rule, &asked, Some(base), out);
         add_base_tangent(comm, &mut ops, &model.pairs, base, -1.0)?;
         return result;
     }
@@ -244,13 +244,13 @@ fn upper_from_count<'rt>(
     Ok(COUNT_BAND_MARGIN * top)
 }
 
-/// Real modes of `k` (the structure, or its symmetric tangent) in the band asked, written as
-/// `squeal modes` writes them. Collective.
+/// Real modes of the operators' stiffness (the structure, or its symmetric tangent) in the
+/// band asked, written as `squeal modes` writes them. Collective.
 fn real(
     comm: Comm<'_>,
     model: &Model,
     ops: &Operators<'_>,
-    k: &Matrix<'_>,
+    mass_rule: MassRule,
     asked: &Band,
     base: Option<&BaseState>,
     out: &Path,
@@ -268,6 +268,7 @@ fn real(
             })
         }
     };
+    let k = &ops.stiffness;
     let free = collective(
         comm,
         restraint::free_bodies(comm, k, &ops.dofs, &restraint::bodies(&model.mesh)),
@@ -323,7 +324,7 @@ fn real(
             elements: model.mesh.elements.len(),
             equations: ops.dofs.equations(),
             ranks: comm.size(),
-            mass_rule: MassRule::default(),
+            mass_rule,
             parts: model
                 .mesh
                 .parts
@@ -405,7 +406,7 @@ fn complex(
         .filter(|m| m.unstable)
         .max_by(|a, b| a.real_part.total_cmp(&b.real_part));
     let line = format!(
-        "CEA about the equilibrium{}: {} modes in {}-{} Hz, {} unstable{}: {}",
+        "CEA about the equilibrium{}: {} modes in {:.1}-{:.1} Hz, {} unstable{}: {}",
         if base.step > 0 {
             format!(" of step {}", base.step)
         } else {
