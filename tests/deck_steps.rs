@@ -486,3 +486,61 @@ fn the_frictional_deck_couples_the_modes_calculix_couples() {
         );
     }
 }
+
+/// Loads carry over from one static step to the next and a step ramps from the previous
+/// step's load: the frictionless pad pressed by 0.5 MPa, then by 1 MPa in two increments
+/// (`*STATIC` data line 0.5, 1.), ends where one step of 1 MPa ends (a frictionless contact
+/// has no path dependence): the same contact forces to 1e-8 of the largest.
+#[test]
+fn a_second_static_step_carries_the_first_ones_load_on() {
+    let dir = scratch("deck-steps", "two-statics");
+    std::fs::copy(
+        data("pad_on_plate_mesh.inp"),
+        dir.join("pad_on_plate_mesh.inp"),
+    )
+    .unwrap();
+    let text = std::fs::read_to_string(data("pad_on_plate.inp")).unwrap();
+    let one_step = "*STEP\n*STATIC\n*DSLOAD\nPADTOPFACES, P, 1e6\n*END STEP\n";
+    assert!(text.contains(one_step));
+    let two = text.replace(
+        one_step,
+        "*STEP\n*STATIC\n*DSLOAD\nPADTOPFACES, P, 5e5\n*END STEP\n\
+         *STEP\n*STATIC\n0.5, 1.\n*DSLOAD\nPADTOPFACES, P, 1e6\n*END STEP\n",
+    );
+    let deck = dir.join("two.inp");
+    std::fs::write(&deck, two).unwrap();
+    let out = dir.join("two");
+    run_ok(
+        2,
+        &["run", deck.to_str().unwrap(), "-o", out.to_str().unwrap()],
+    );
+    let single = dir.join("one");
+    run_ok(
+        2,
+        &[
+            "run",
+            data("pad_on_plate.inp").to_str().unwrap(),
+            "-o",
+            single.to_str().unwrap(),
+        ],
+    );
+    let increments = json(&out.join("step-2-static/static.json"))["increments"]
+        .as_array()
+        .unwrap()
+        .len();
+    assert_eq!(increments, 2, "time period 1 / initial increment 0.5");
+    let half: f64 = contact_forces(&out.join("step-1-static/contact.json"))
+        .iter()
+        .map(|p| p.1)
+        .sum();
+    assert!(
+        (half - 338.0).abs() < 1e-6 * 338.0,
+        "0.5 MPa on 0.026^2 m^2: {half}"
+    );
+    same_forces(
+        &contact_forces(&out.join("step-2-static/contact.json")),
+        &contact_forces(&single.join("step-1-static/contact.json")),
+        1e-8,
+        "two static steps against one",
+    );
+}

@@ -580,4 +580,50 @@ mod tests {
         assert!(model.pairs[0].points.iter().all(|p| p.initial_gap == 0.0));
         let _ = std::fs::remove_dir_all(dir);
     }
+
+    /// A *MOTION moving the master makes the pair slide along its velocity; moving the
+    /// slave, along the opposite; moving both is refused naming the pair and both lines.
+    #[test]
+    fn a_motion_slides_the_pairs_whose_surface_it_moves() {
+        let mut tangents = Vec::new();
+        for (test, set) in [("master", "PLATE"), ("slave", "PAD")] {
+            let (dir, path) = variant(
+                &format!("motion-{test}"),
+                &format!(
+                    "*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=LINEAR\n1e13\n*FRICTION\n0.3\n\
+                     *NSET, NSET=MOVING, ELSET={set}\n*MOTION, TRANSLATION, TYPE=VELOCITY\n\
+                     MOVING, 2, 2, 3.0\n"
+                ),
+            );
+            let model = source::read(&path).unwrap();
+            assert_eq!(model.swept, vec![true], "{test}");
+            let pair = &model.pairs[0];
+            assert_eq!(pair.settings.law, FrictionLaw::SteadySliding);
+            assert_eq!(pair.settings.friction, 0.3);
+            assert!(model.deck_motions.contains_key("PADBOTTOM:PLATETOP"));
+            tangents.push(pair.points[0].tangent.unwrap());
+            let _ = std::fs::remove_dir_all(dir);
+        }
+        // The plate's normal is z to round-off (1e-16): the tangent likewise.
+        let near = |a: [f64; 3], b: [f64; 3]| (0..3).all(|c| (a[c] - b[c]).abs() < 1e-12);
+        assert!(
+            near(tangents[0], [0.0, 1.0, 0.0]),
+            "the plate moves +y: {tangents:?}"
+        );
+        assert!(
+            near(tangents[1], [0.0, -1.0, 0.0]),
+            "the pad moves +y: {tangents:?}"
+        );
+        let (dir, path) = variant(
+            "motion-both",
+            "*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=LINEAR\n1e13\n\
+             *MOTION, TRANSLATION\nNALL, 1, 1, 1.0\n",
+        );
+        let e = source::read(&path).unwrap_err().to_string();
+        assert!(
+            e.contains("both surfaces of contact pair PADBOTTOM:PLATETOP move"),
+            "{e}"
+        );
+        let _ = std::fs::remove_dir_all(dir);
+    }
 }
