@@ -101,8 +101,15 @@ impl Model {
                 || spec.mesh.sliding.is_some()
                 || spec.mesh.contact_variant.is_some())
         {
+            let key = if spec.mesh.interaction.is_some() {
+                "mesh.interaction"
+            } else if spec.mesh.sliding.is_some() {
+                "mesh.sliding"
+            } else {
+                "mesh.contact_variant"
+            };
             return Err(ModelError::Invalid {
-                key: "mesh.interaction".into(),
+                key: key.into(),
                 why: "mesh.interaction, mesh.sliding and mesh.contact_variant are about a deck's \
                       contact pairs: give a deck as mesh.file, or use [[contacts]]"
                     .into(),
