@@ -5,6 +5,18 @@
   pad_on_plate.inp        *INCLUDE of the mesh, supports, the interaction, the contact pair,
                           a *STATIC step (pressure on the pad) and a *FREQUENCY perturbation
                           step: what CalculiX runs (ccx -i pad_on_plate)
+  pad_on_plate_sliding.inp        the same with friction (mu 0.3) and the plate turning under
+                          the pad as a disc would (*MOTION, ROTATION about a z axis 99 mm from
+                          the pad's centre): *STATIC, *FREQUENCY and *COMPLEX FREQUENCY steps
+                          for squeal run
+  pad_on_plate_friction.inp       friction mu 0.3 with CalculiX's stick slope 1e11 Pa/m: the
+                          pad pressed (*STATIC), the plate then sliding along y under it
+                          (*STATIC with *MOTION, TRANSLATION), 12 modes about that (*FREQUENCY)
+  pad_on_plate_friction_ccx.inp   what CalculiX runs for the same: the plate's bottom moved
+                          2e-5 m along y in the second step (every point slips), and the
+                          frequency step's mu lowered by 1e-6 (*CHANGE FRICTION) so that each
+                          point left on the Coulomb cone by the static is evaluated as
+                          slipping, not as sticking or slipping by round-off
 
 A steel plate [0, 0.04]^2 x [0, 0.01] (4 x 4 x 1 cubes) clamped at its bottom, and a pad
 [0.006, 0.032]^2 x [0.01, 0.015] (3 x 3 x 1 cubes, E = 5 GPa) on it, its top held in x and
@@ -123,6 +135,49 @@ def main():
         "*STEP\n*STATIC\n*DSLOAD\nPADTOPFACES, P, 1e6\n*END STEP\n"
         "*STEP, PERTURBATION\n*FREQUENCY\n12\n*NODE FILE\nU\n*END STEP\n"
     )
+    head = (
+        "*INCLUDE, INPUT=pad_on_plate_mesh.inp\n"
+        "*NSET, NSET=PLATENODES, ELSET=PLATE\n"
+        "*BOUNDARY\nPLATEBOTTOM, 1, 3\nPADTOP, 1, 2\n"
+        "*SURFACE INTERACTION, NAME=PADPLATE\n"
+        "*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=LINEAR\n1e13\n"
+        "*FRICTION\n0.3, 1e11\n"
+        "*CONTACT PAIR, INTERACTION=PADPLATE, TYPE=NODE TO SURFACE, SMALL SLIDING\n"
+        "PADBOTTOM, PLATETOP\n"
+    )
+    written = "** Written by examples/make_pad_on_plate_deck.py (squeal).\n"
+    sliding = (
+        "*HEADING\nPad on plate with friction, the plate turning under the pad as a disc "
+        "would (squeal tests/data)\n" + written + head +
+        "*STEP\n*STATIC\n*DSLOAD\nPADTOPFACES, P, 1e6\n"
+        "*MOTION, ROTATION, TYPE=VELOCITY\n"
+        "PLATENODES, 10., -0.08, 0.019, 0., -0.08, 0.019, 1.\n*END STEP\n"
+        "*STEP, PERTURBATION\n*FREQUENCY\n, 0., 55000.\n*END STEP\n"
+        "*STEP, PERTURBATION\n*COMPLEX FREQUENCY\n, 30000., 55000.\n*END STEP\n"
+    )
+    friction = (
+        "*HEADING\nPad on plate with friction, the plate sliding along y under the held "
+        "pad (squeal tests/data)\n" + written + head +
+        "*STEP\n*STATIC\n*DSLOAD\nPADTOPFACES, P, 1e6\n*END STEP\n"
+        "*STEP\n*STATIC\n*MOTION, TRANSLATION, TYPE=VELOCITY\nPLATENODES, 2, 2, 1.\n"
+        "*END STEP\n*STEP, PERTURBATION\n*FREQUENCY\n12\n*END STEP\n"
+    )
+    friction_ccx = (
+        "*HEADING\nPad on plate with friction, the plate pushed 2e-5 m along y under the "
+        "held pad (CalculiX; squeal tests/data)\n" + written + head.replace(
+            "*NSET, NSET=PLATENODES, ELSET=PLATE\n", "") +
+        "*STEP\n*STATIC\n*DSLOAD\nPADTOPFACES, P, 1e6\n*END STEP\n"
+        "*STEP\n*STATIC\n*BOUNDARY\nPLATEBOTTOM, 2, 2, 2e-5\n*END STEP\n"
+        "*STEP, PERTURBATION\n*CHANGE FRICTION, INTERACTION=PADPLATE\n*FRICTION\n"
+        "0.2999997, 1e11\n*FREQUENCY\n12\n*END STEP\n"
+    )
+    for name, text in (
+        ("pad_on_plate_sliding.inp", sliding),
+        ("pad_on_plate_friction.inp", friction),
+        ("pad_on_plate_friction_ccx.inp", friction_ccx),
+    ):
+        with open(os.path.join(folder, name), "w") as f:
+            f.write(text)
     with open(os.path.join(folder, "pad_on_plate_mesh.inp"), "w") as f:
         f.write("".join(mesh))
     with open(os.path.join(folder, "pad_on_plate.inp"), "w") as f:

@@ -168,6 +168,11 @@ enum Command {
         /// A deck: a fixed sliding direction X,Y,Z for --interaction's pairs instead.
         #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
         sliding_direction: Option<Vec<f64>>,
+        /// A deck: its contact pairs' law, squeal's or CalculiX's (slave areas, smoothed
+        /// linear law, perturbation tangent), to compare like with like (study key
+        /// mesh.contact_variant).
+        #[arg(long, value_enum)]
+        contact_variant: Option<ContactVariantArg>,
         /// Sweep Craig-Bampton super-elements of the reduced-interface model, assembled with
         /// node-to-node cubic contact: one made at --superelement-friction (single), one per
         /// friction value (per-friction), or one rebuilt only when a kept contact changes
@@ -199,6 +204,25 @@ enum Command {
     Study {
         #[command(flatten)]
         study: StudyFlags,
+    },
+    /// Run an Abaqus/CalculiX deck's steps in order, as Abaqus or CalculiX would: *STATIC
+    /// (the contact equilibrium, loads carried over from step to step), *FREQUENCY (real
+    /// modes about the last static equilibrium, or the CEA when friction makes the tangent
+    /// unsymmetric), *COMPLEX FREQUENCY (the CEA in its band). Each step's results go into
+    /// its folder step-<k>-<procedure> of the output folder.
+    Run {
+        /// The deck (.inp).
+        deck: PathBuf,
+        /// Consistent-mass integration.
+        #[arg(long, value_enum, default_value = "exact")]
+        mass_rule: MassRuleArg,
+        /// The contact pairs' law: squeal's or CalculiX's (slave areas, smoothed linear law,
+        /// perturbation tangent), to compare like with like.
+        #[arg(long, value_enum, default_value = "squeal")]
+        contact_variant: ContactVariantArg,
+        /// Output folder (one folder per step inside, and run.json).
+        #[arg(short, long, default_value = "squeal-out")]
+        output: PathBuf,
     },
     /// Real modes (K phi = omega^2 M phi) of a mesh file or of the built-in brake.
     Modes {
@@ -324,6 +348,22 @@ struct InterfaceFlags {
     /// reduction.area_weighting; Abaqus 6.10's mesh-size weighting).
     #[arg(long)]
     area_weighting: bool,
+}
+
+/// The contact law variant, as a command-line value.
+#[derive(Clone, Copy, Debug, clap::ValueEnum)]
+enum ContactVariantArg {
+    Squeal,
+    Calculix,
+}
+
+impl From<ContactVariantArg> for squeal::contact::ContactVariant {
+    fn from(v: ContactVariantArg) -> Self {
+        match v {
+            ContactVariantArg::Squeal => squeal::contact::ContactVariant::Squeal,
+            ContactVariantArg::Calculix => squeal::contact::ContactVariant::Calculix,
+        }
+    }
 }
 
 /// The super-element strategy, as a command-line value.
@@ -579,6 +619,7 @@ fn main() -> ExitCode {
             interaction,
             disc_axis,
             sliding_direction,
+            contact_variant,
             superelements,
             superelement_friction,
             cutoff,
@@ -589,6 +630,7 @@ fn main() -> ExitCode {
             args.reduction = reduction;
             args.interaction = interaction;
             args.sliding = sliding_flags(disc_axis, sliding_direction)?;
+            args.contact_variant = contact_variant.map(Into::into);
             args.superelements = study::sweep::SuperElementArgs {
                 strategy: superelements.map(|s| match s {
                     StrategyArg::Single => squeal::reduce::Strategy::Single,
@@ -607,6 +649,24 @@ fn main() -> ExitCode {
                 write_study.as_deref(),
             )?)
         }),
+        Command::Run {
+            deck,
+            mass_rule,
+            contact_variant,
+            output,
+        } => study::run::run(
+            &rt,
+            &study::run::RunArgs {
+                deck,
+                output,
+                mass_rule: match mass_rule {
+                    MassRuleArg::Exact => MassRule::Exact,
+                    MassRuleArg::Gauss4 => MassRule::Gauss4,
+                },
+                contact_variant: contact_variant.into(),
+            },
+        )
+        .map_err(Into::into),
         Command::Study { study: flags } => {
             let (args, file, write_study) = flags.split();
             study::pipeline::run_command(&rt, file.as_deref(), args, write_study.as_deref())

@@ -81,6 +81,7 @@ fn block_on_block(rt: &Runtime) -> Result<Vec<f64>, String> {
         separation: true,
         sliding: SlidingDirection::Fixed([1.0, 0.0, 0.0]),
         law: squeal::contact::FrictionLaw::SteadySliding,
+        calculix: None,
     };
     let pair = contact::node_to_surface(
         &mesh,

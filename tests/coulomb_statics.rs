@@ -73,6 +73,7 @@ fn rig(rt: &Runtime) -> Result<Rig<'_>, String> {
         law: FrictionLaw::Coulomb {
             stick_stiffness: None,
         },
+        calculix: None,
     };
     let pair = contact::node_to_surface(
         &mesh,

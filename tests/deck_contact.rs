@@ -239,7 +239,7 @@ fn a_deck_sweep_without_a_sliding_direction_or_with_a_wrong_interaction_is_refus
         out.to_str().unwrap(),
     ]);
     assert!(
-        stderr.contains("--disc-axis") && stderr.contains("*MOTION is not read"),
+        stderr.contains("--disc-axis") && stderr.contains("no *MOTION"),
         "{stderr}"
     );
     let stderr = run_err(&[

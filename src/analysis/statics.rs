@@ -350,6 +350,51 @@ pub fn add_contact_tangent<'rt>(
     Ok(closed)
 }
 
+/// Adds `scale` times the contact tangent of a perturbation step about the equilibrium
+/// `u` (a CEA, a `*FREQUENCY` after a `*STATIC`) into `j`, and assembles: the consistent
+/// tangent of the equilibrium's last increment (history `before`), except for pairs with
+/// CalculiX's law, which take CalculiX's perturbation tangent (the committed history
+/// `after`, and the stick slope across a steady-sliding point's direction:
+/// [`contact::variant`]). Collective.
+#[allow(clippy::too_many_arguments)]
+pub fn add_perturbation_tangent<'rt>(
+    comm: Comm<'rt>,
+    j: &mut Matrix<'rt>,
+    dofs: &DofMap,
+    pairs: &[ContactPair],
+    before: &SlipHistory,
+    after: &SlipHistory,
+    u: &[[f64; 3]],
+    scale: f64,
+) -> Result<(), StaticsError> {
+    let history = contact::perturbation_history(pairs, before, after);
+    add_contact_tangent(comm, j, dofs, pairs, &history, u, scale)?;
+    if pairs.iter().all(|p| p.settings.calculix.is_none()) {
+        return Ok(());
+    }
+    let mut failure = None;
+    for (pair, point, anchor) in owned_points(pairs, &history, dofs) {
+        match contact::point_state(pair, point, anchor, u) {
+            Ok(state) => {
+                if let Some(mut c) = contact::variant::across_sliding(pair, point, &state) {
+                    c.jacobian.iter_mut().for_each(|v| *v *= scale);
+                    j.add_block(
+                        &equations(dofs, &c.nodes),
+                        &equations(dofs, &c.nodes),
+                        &c.jacobian,
+                    )?;
+                }
+            }
+            Err(e) => {
+                failure = Some(e);
+                break;
+            }
+        }
+    }
+    j.assemble()?;
+    collective_failure(comm, failure)
+}
+
 /// The tangent stiffness K_t = K + dF_c/dU at `u`, as a new matrix. Collective.
 pub fn tangent<'rt>(
     comm: Comm<'rt>,
@@ -440,6 +485,20 @@ pub fn solve<'rt>(
     initial: Option<&[[f64; 3]]>,
     options: &StaticOptions,
 ) -> Result<StaticSolution, StaticsError> {
+    solve_from(comm, problem, initial, None, options)
+}
+
+/// [`solve`] with the load going from `start_load` (the load the `initial` equilibrium
+/// carries: a deck's previous step) to `problem.load` over the increments, as a step of
+/// Abaqus or CalculiX ramps from the previous step's loads to its own; `None`: from zero.
+/// Collective.
+pub fn solve_from<'rt>(
+    comm: Comm<'rt>,
+    problem: &StaticProblem<'_, 'rt>,
+    initial: Option<&[[f64; 3]]>,
+    start_load: Option<&Vector<'rt>>,
+    options: &StaticOptions,
+) -> Result<StaticSolution, StaticsError> {
     let dofs = problem.dofs;
     let unknowns = problem.solver_dofs();
     let owned = unknowns.owned_equations();
@@ -496,7 +555,15 @@ pub fn solve<'rt>(
             Some(f) if retried => f,
             _ => &options.newton,
         };
-        match newton(comm, problem, &slip, target, &mut x, newton_options) {
+        match newton(
+            comm,
+            problem,
+            start_load,
+            &slip,
+            target,
+            &mut x,
+            newton_options,
+        ) {
             Ok(report) => {
                 tracing::info!(
                     "load factor {target:.3}: {} Newton iterations ({} factorisations), residual {}",
@@ -565,6 +632,7 @@ pub fn solve<'rt>(
 fn newton<'rt>(
     comm: Comm<'rt>,
     problem: &StaticProblem<'_, 'rt>,
+    start_load: Option<&Vector<'rt>>,
     slip: &SlipHistory,
     load_factor: f64,
     x: &mut Vector<'rt>,
@@ -586,10 +654,15 @@ fn newton<'rt>(
         None => (None, None, None),
     };
     let residual = Box::new(move |x: &Vector<'rt>, f: &mut Vector<'rt>| {
-        // R = K u - lambda F + F_c(u), u = x (or C x + lambda g, and R carried by C^T)
+        // R = K u - lambda F - (1 - lambda) F_start + F_c(u), u = x (or C x + lambda g, and
+        // R carried by C^T)
         let (Some(t), Some(u_full), Some(f_full)) = (constraints, &mut u_full, &mut f_full) else {
             k.mult(x, f).map_err(|e| e.to_string())?;
             f.axpy(-load_factor, load).map_err(|e| e.to_string())?;
+            if let Some(start) = start_load {
+                f.axpy(load_factor - 1.0, start)
+                    .map_err(|e| e.to_string())?;
+            }
             let u = node_displacements(x, dofs).map_err(|e| e.to_string())?;
             return add_contact_forces(comm, f, dofs, pairs, slip, &u).map_err(|e| e.to_string());
         };
@@ -597,6 +670,11 @@ fn newton<'rt>(
             .map_err(|e| e.to_string())?;
         k.mult(u_full, f_full).map_err(|e| e.to_string())?;
         f_full.axpy(-load_factor, load).map_err(|e| e.to_string())?;
+        if let Some(start) = start_load {
+            f_full
+                .axpy(load_factor - 1.0, start)
+                .map_err(|e| e.to_string())?;
+        }
         let u = node_displacements(u_full, dofs).map_err(|e| e.to_string())?;
         add_contact_forces(comm, f_full, dofs, pairs, slip, &u).map_err(|e| e.to_string())?;
         t.restrict_into(f_full, f).map_err(|e| e.to_string())

@@ -92,6 +92,11 @@ pub struct PointLaw {
     pub normal_stiffness: f64,
     /// `k_t A`.
     pub stick_stiffness: f64,
+    /// A point whose trial force reaches this fraction below the cone's radius already
+    /// slips: 0 for squeal's law; CalculiX's variant re-evaluates a slipping point from its
+    /// committed anchor, whose trial force is on the cone to round-off, and keeps it
+    /// slipping ([`super::variant`]).
+    pub cone_tolerance: f64,
 }
 
 /// The return mapping at one point: `w` the relative displacement, `anchor` the slip
@@ -109,6 +114,7 @@ pub fn return_mapping(
         friction,
         normal_stiffness,
         stick_stiffness,
+        cone_tolerance,
     } = *law;
     let tangential = sub(w, scale(dot(normal, w), normal));
     if !closed || friction == 0.0 {
@@ -123,7 +129,7 @@ pub fn return_mapping(
     let trial = scale(-stick_stiffness, sub(tangential, anchor));
     let size = norm(trial);
     let radius = friction * normal_force.max(0.0);
-    if size <= radius {
+    if size <= radius * (1.0 - cone_tolerance) {
         let mut jacobian = [[0.0; 3]; 3];
         for (i, row) in jacobian.iter_mut().enumerate() {
             for (j, v) in row.iter_mut().enumerate() {
@@ -200,6 +206,10 @@ impl SlipHistory {
     }
 }
 
+/// The CalculiX variant's [`PointLaw::cone_tolerance`]: far above the round-off of the
+/// anchor update (1e-16 relative), far below any physical distance from the cone.
+const CALCULIX_CONE_TOLERANCE: f64 = 1e-9;
+
 /// The law of a pair's point (`k_t` = 0 for steady sliding).
 pub(super) fn point_law(pair: &ContactPair, point: &ContactPoint) -> PointLaw {
     PointLaw {
@@ -207,6 +217,11 @@ pub(super) fn point_law(pair: &ContactPair, point: &ContactPoint) -> PointLaw {
         friction: pair.settings.friction,
         normal_stiffness: pair.penalty * point.area,
         stick_stiffness: pair.stick_stiffness().unwrap_or(0.0) * point.area,
+        cone_tolerance: if pair.settings.calculix.is_some() {
+            CALCULIX_CONE_TOLERANCE
+        } else {
+            0.0
+        },
     }
 }
 
@@ -223,6 +238,7 @@ mod tests {
             friction: mu,
             normal_stiffness: 1e3,
             stick_stiffness: 1e2,
+            cone_tolerance: 0.0,
         };
         let p = -law.normal_stiffness * w[2];
         return_mapping(&law, w, anchor, p, p >= 0.0)

@@ -8,6 +8,8 @@
 //!   the closest face of a surface ([`SurfaceSearch`]).
 //! - [`coulomb`]: Coulomb friction with stick and slip ([`Status`]), its return mapping and
 //!   consistent tangent, and the slip history a model carries ([`SlipHistory`]).
+//! - [`variant`]: CalculiX's variant of the law ([`ContactVariant`]), to compare like with
+//!   like against CalculiX.
 //! - [`penalty`]: the gap, the contact force and its (unsymmetric) Jacobian at one contact
 //!   point for a displacement field ([`evaluate`]), and a pair's summary ([`summarize`]).
 //!
@@ -20,6 +22,7 @@ pub mod coulomb;
 pub mod pair;
 pub mod penalty;
 pub mod project;
+pub mod variant;
 
 pub use coulomb::{SlipHistory, Status};
 pub use pair::{
@@ -31,6 +34,7 @@ pub use penalty::{
     PressureRange,
 };
 pub use project::{project_on_face, FaceProjection, SearchOptions, SurfaceHit, SurfaceSearch};
+pub use variant::{perturbation_history, CalculixLaw, ContactVariant};
 
 /// Errors of the contact stage. Every variant names the pair.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]

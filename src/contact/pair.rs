@@ -137,6 +137,10 @@ pub struct PairSettings {
     /// [`SlidingDirection::None`]: the slip direction comes from the solution).
     #[serde(default)]
     pub law: FrictionLaw,
+    /// CalculiX's normal law and perturbation tangent instead of squeal's (the CalculiX
+    /// contact variant, [`super::variant`]); `None`: squeal's law.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub calculix: Option<super::variant::CalculixLaw>,
 }
 
 impl PairSettings {
@@ -156,6 +160,20 @@ impl PairSettings {
         }
         if let Some(k) = self.penalty {
             check_penalty(k).map_err(invalid)?;
+        }
+        if let Some(law) = self.calculix {
+            if !(law.tension >= 0.0 && law.tension.is_finite()) {
+                return Err(invalid(format!(
+                    "CalculiX's tension at large clearance {} must be finite and >= 0",
+                    law.tension
+                )));
+            }
+            if !(law.clearance_factor > 0.0 && law.clearance_factor.is_finite()) {
+                return Err(invalid(format!(
+                    "CalculiX's clearance factor c0 {} must be finite and > 0",
+                    law.clearance_factor
+                )));
+            }
         }
         if let FrictionLaw::Coulomb { stick_stiffness } = self.law {
             if self.sliding != SlidingDirection::None {
@@ -631,6 +649,7 @@ mod tests {
             separation: true,
             sliding,
             law: FrictionLaw::SteadySliding,
+            calculix: None,
         }
     }
 

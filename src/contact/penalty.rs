@@ -110,9 +110,7 @@ fn state_and_tangential(
     w: [f64; 3],
 ) -> (PointState, Option<Tangential>) {
     let gap = point.initial_gap + dot(point.normal, w);
-    let closed = !pair.settings.separation || gap <= 0.0;
-    let stiffness = pair.penalty * point.area;
-    let normal_force = if closed { -stiffness * gap } else { 0.0 };
+    let (closed, normal_force, slope) = normal_law(pair, point, gap);
     let mut state = PointState {
         gap,
         normal_force,
@@ -130,12 +128,32 @@ fn state_and_tangential(
             (state, None)
         }
         FrictionLaw::Coulomb { .. } => {
-            let law = coulomb::point_law(pair, point);
+            let mut law = coulomb::point_law(pair, point);
+            // The friction radius follows the normal force's own slope.
+            law.normal_stiffness = slope;
             let tangential = coulomb::return_mapping(&law, w, anchor, normal_force, closed);
             state.status = tangential.status;
             state.friction_force = tangential.force;
             state.anchor = tangential.anchor;
             (state, Some(tangential))
+        }
+    }
+}
+
+/// Whether the normal law acts at `gap`, the normal force on the slave and its slope
+/// `d force / d overclosure`: squeal's `k A max(0, -g)` (bilateral: `k A (-g)`), or
+/// CalculiX's smoothed law for a pair with it ([`super::variant`]; its bilateral pairs keep
+/// squeal's, CalculiX having none).
+fn normal_law(pair: &ContactPair, point: &ContactPoint, gap: f64) -> (bool, f64, f64) {
+    let stiffness = pair.penalty * point.area;
+    match pair.settings.calculix {
+        Some(law) if pair.settings.separation => {
+            law.normal(pair.penalty, point.area, point.initial_gap, gap)
+        }
+        _ => {
+            let closed = !pair.settings.separation || gap <= 0.0;
+            let force = if closed { -stiffness * gap } else { 0.0 };
+            (closed, force, stiffness)
         }
     }
 }
@@ -178,7 +196,8 @@ pub fn evaluate(
     let weights: Vec<(usize, f64)> = signed_weights(point).collect();
     let force = slave_force(point, &state);
     let n = point.normal;
-    let stiffness = pair.penalty * point.area;
+    // The normal force's slope: k A, or the CalculiX law's at this gap.
+    let stiffness = normal_law(pair, point, state.gap).2;
     let size = 3 * weights.len();
     let mut residual = vec![0.0; size];
     let mut jacobian = vec![0.0; size * size];
@@ -372,6 +391,7 @@ mod tests {
                 separation,
                 sliding,
                 law: crate::contact::FrictionLaw::SteadySliding,
+                calculix: None,
             },
             &SearchOptions::default(),
         )
@@ -677,6 +697,7 @@ mod tests {
             separation: true,
             sliding: SlidingDirection::Fixed([0.0, 1.0, 0.0]),
             law: crate::contact::FrictionLaw::SteadySliding,
+            calculix: None,
         };
         let n = [0.6, 0.0, 0.8];
         let t = [0.0, 1.0, 0.0];

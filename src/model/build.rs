@@ -68,6 +68,9 @@ impl Model {
                     ));
                 }
                 deck_sliding(&mut m, spec)?;
+                if let Some(v) = spec.mesh.contact_variant {
+                    super::deck_contact::apply_variant(&mut m, v)?;
+                }
                 m
             }
             None => {
@@ -94,12 +97,21 @@ impl Model {
             }
         };
         if spec.mesh.file.is_none()
-            && (spec.mesh.interaction.is_some() || spec.mesh.sliding.is_some())
+            && (spec.mesh.interaction.is_some()
+                || spec.mesh.sliding.is_some()
+                || spec.mesh.contact_variant.is_some())
         {
+            let key = if spec.mesh.interaction.is_some() {
+                "mesh.interaction"
+            } else if spec.mesh.sliding.is_some() {
+                "mesh.sliding"
+            } else {
+                "mesh.contact_variant"
+            };
             return Err(ModelError::Invalid {
-                key: "mesh.interaction".into(),
-                why: "mesh.interaction and mesh.sliding choose among a deck's contact pairs: \
-                      give a deck as mesh.file, or use [[contacts]]"
+                key: key.into(),
+                why: "mesh.interaction, mesh.sliding and mesh.contact_variant are about a deck's \
+                      contact pairs: give a deck as mesh.file, or use [[contacts]]"
                     .into(),
             });
         }
@@ -171,6 +183,7 @@ impl Model {
                 separation: c.separation,
                 sliding: c.sliding.clone(),
                 law,
+                calculix: None,
             };
             let pair =
                 contact::node_to_surface(mesh, slave, master, settings, &SearchOptions::default())
@@ -219,18 +232,51 @@ fn deck_pair_list(model: &Model) -> String {
     format!(" ({})", list.join(", "))
 }
 
-/// `mesh.sliding` (and `mesh.interaction`): the deck pairs the disc slides under.
+/// `mesh.sliding` (and `mesh.interaction`): the deck pairs the disc slides under. A sliding
+/// direction given here replaces the deck's `*MOTION` (said in a warning); without one, the
+/// pairs the deck's `*MOTION` moves slide, and `mesh.interaction` only picks among them.
 fn deck_sliding(model: &mut Model, spec: &ModelSpec) -> Result<(), ModelError> {
     match (&spec.mesh.sliding, &spec.mesh.interaction) {
         (Some(sliding), interaction) => {
             super::deck_contact::slide(model, interaction.as_deref(), sliding, "mesh.sliding")
         }
+        (None, Some(name)) if !model.deck_motions.is_empty() => {
+            let mut found = false;
+            for (k, pair) in model.pairs.iter().enumerate() {
+                let of_it = model
+                    .deck_interactions
+                    .get(&pair.settings.name)
+                    .is_some_and(|i| i.eq_ignore_ascii_case(name));
+                found |= of_it && model.swept[k];
+                if !of_it {
+                    model.swept[k] = false;
+                }
+            }
+            if found {
+                Ok(())
+            } else {
+                Err(ModelError::Invalid {
+                    key: "mesh.interaction".into(),
+                    why: format!(
+                        "no pair of interaction '{name}' slides: the deck's *MOTION moves the \
+                         pairs {}; give mesh.sliding (squeal sweep: --disc-axis or \
+                         --sliding-direction) to make the pairs of '{name}' slide",
+                        model
+                            .deck_motions
+                            .keys()
+                            .cloned()
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    ),
+                })
+            }
+        }
         (None, Some(name)) => Err(ModelError::Invalid {
             key: "mesh.interaction".into(),
             why: format!(
-                "the pairs of interaction '{name}' need a sliding direction, and a deck gives \
-                 none (*MOTION is not read): give mesh.sliding (squeal sweep: --disc-axis or \
-                 --sliding-direction)"
+                "the pairs of interaction '{name}' need a sliding direction, and the deck gives \
+                 none (no *MOTION moves their surfaces): give mesh.sliding (squeal sweep: \
+                 --disc-axis or --sliding-direction)"
             ),
         }),
         (None, None) => Ok(()),

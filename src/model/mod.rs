@@ -65,6 +65,12 @@ pub struct Model {
     /// The pairs read from a deck's `*CONTACT PAIR`s: pair name -> its `*SURFACE
     /// INTERACTION` (upper-case names).
     pub deck_interactions: std::collections::BTreeMap<String, String>,
+    /// The deck pairs a `*MOTION` makes slide: pair name -> the motion and the law the
+    /// pair had before (what a sliding direction given by flag or study key goes back from).
+    pub deck_motions: std::collections::BTreeMap<String, deck_contact::MotionSliding>,
+    /// What the CalculiX contact variant makes of each deck pair, by pair name
+    /// ([`deck_contact::apply_variant`]).
+    pub deck_calculix: std::collections::BTreeMap<String, deck_contact::CalculixPair>,
     /// From an Abaqus `*FREQUENCY` step: (number of modes, upper frequency).
     pub frequency_step: Option<(Option<usize>, Option<f64>)>,
     /// What a reader or builder noticed and did not refuse.

@@ -124,19 +124,30 @@ fn from_deck(path: &Path, deck: abaqus::Deck) -> Result<Model, ModelError> {
         .steps
         .iter()
         .position(|s| matches!(s.procedure, abaqus::Procedure::Frequency(_)));
-    let loading = match step.or(deck.steps.len().checked_sub(1)) {
-        Some(k) => deck.loading_in_step(k).unwrap_or_default(),
-        None => deck.model_loading(),
-    };
-    let frequency_step = step.and_then(|k| match &deck.steps[k].procedure {
+    let mut model = deck_model(path, &deck, step.or(deck.steps.len().checked_sub(1)))?;
+    model.frequency_step = step.and_then(|k| match &deck.steps[k].procedure {
         abaqus::Procedure::Frequency(f) => Some((f.eigenvalues, f.upper_frequency)),
         _ => None,
     });
-    let conditions = super::deck_constraints::conditions(
-        &deck,
-        &loading,
-        step.or(deck.steps.len().checked_sub(1)),
-    )?;
+    Ok(model)
+}
+
+/// The model of a deck as it stands in step `step` (0-based; `None`: the model data): the
+/// supports and loads in force there ([`abaqus::Deck::loading_in_step`]), the contact pairs
+/// with the sliding of the `*MOTION`s in force there (the model data's, every earlier
+/// general step's and the step's own: [`super::deck_contact::motions_in_step`]), springs and
+/// point masses. What `squeal run` builds for each step; `read` for the step a deck's sweep
+/// or modes analyse.
+pub fn deck_model(
+    path: &Path,
+    deck: &abaqus::Deck,
+    step: Option<usize>,
+) -> Result<Model, ModelError> {
+    let loading = match step {
+        Some(k) => deck.loading_in_step(k).unwrap_or_default(),
+        None => deck.model_loading(),
+    };
+    let conditions = super::deck_constraints::conditions(deck, &loading, step)?;
     // One load per face: a deck's net face pressures carry no surface names, and a face's
     // resultant is exact (summing them per surface would cancel opposite backplates).
     let pressures = loading
@@ -148,7 +159,7 @@ fn from_deck(path: &Path, deck: abaqus::Deck) -> Result<Model, ModelError> {
             value: *p,
         })
         .collect();
-    let (pairs, deck_interactions) = super::deck_contact::pairs(&deck)?;
+    let (pairs, deck_interactions) = super::deck_contact::pairs(deck)?;
     let pair_surfaces = deck
         .contact_pairs
         .iter()
@@ -157,8 +168,8 @@ fn from_deck(path: &Path, deck: abaqus::Deck) -> Result<Model, ModelError> {
             abaqus::SlaveSurface::Nodes { .. } => None,
         })
         .collect();
-    let (springs, links) = deck_springs(&deck);
-    let model = Model {
+    let (springs, links) = deck_springs(deck);
+    let mut model = Model {
         source: path.display().to_string(),
         springs,
         links,
@@ -178,13 +189,15 @@ fn from_deck(path: &Path, deck: abaqus::Deck) -> Result<Model, ModelError> {
         constraints: conditions.constraints,
         pressures,
         forces: conditions.forces,
-        frequency_step,
         warnings: deck.warnings.clone(),
-        mesh: deck.mesh,
+        mesh: deck.mesh.clone(),
         ..Default::default()
     };
     // Dependent DOFs taken twice, or also supported, are named now, at their lines.
     model.resolved_constraints()?;
+    model.deck_calculix = super::deck_contact::calculix_pairs(deck, &model.pairs);
+    let motions = super::deck_contact::motions_in_step(deck, step);
+    super::deck_contact::apply_motions(&mut model, deck, &motions)?;
     Ok(model)
 }
 

@@ -31,13 +31,19 @@ pub struct MeshSpec {
     pub brake: Option<BrakeParams>,
     /// A deck `file`: the `*SURFACE INTERACTION` whose pairs the disc slides under (their
     /// friction law becomes steady sliding along `sliding`, and the friction sweep sets
-    /// their mu); default: the deck's only interaction.
+    /// their mu); default: the one whose pairs the deck's `*MOTION` moves, else the deck's
+    /// only interaction.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub interaction: Option<String>,
-    /// A deck `file`: the sliding direction of the pairs of `interaction` (a deck gives no
-    /// disc rotation: `*MOTION` is not read).
+    /// A deck `file`: the sliding direction of the pairs of `interaction`; it replaces the
+    /// deck's `*MOTION` (absent: the deck's `*MOTION` gives it).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub sliding: Option<SlidingDirection>,
+    /// A deck `file`: the law of its contact pairs, "squeal" (default) or "calculix"
+    /// (CalculiX's slave areas, smoothed linear law and perturbation tangent, to compare
+    /// like with like: [`crate::contact::variant`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub contact_variant: Option<crate::contact::ContactVariant>,
 }
 
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]

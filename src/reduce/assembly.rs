@@ -702,6 +702,7 @@ mod tests {
             separation: b.separation,
             sliding: SlidingDirection::None,
             law: contact::FrictionLaw::SteadySliding,
+            calculix: None,
         };
         let point = ContactPoint {
             slave: vec![(2 * k, 1.0)],

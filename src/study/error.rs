@@ -94,6 +94,22 @@ pub enum StudyError {
         #[source]
         source: StaticsError,
     },
+    /// A step of `squeal run`: the step (its `*STEP` line and procedure) and what failed.
+    #[error("{step}: {source}")]
+    Step {
+        step: String,
+        #[source]
+        source: Box<StudyError>,
+    },
+    /// A deck step `squeal run` cannot run as written, named by its line.
+    #[error("{at}: {why}")]
+    DeckStep { at: String, why: String },
+    /// The static equilibrium of a deck's `*STATIC` step.
+    #[error("static equilibrium: {source}")]
+    DeckStatic {
+        #[source]
+        source: StaticsError,
+    },
     /// A contact point's state.
     #[error(transparent)]
     Contact(#[from] ContactError),

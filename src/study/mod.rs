@@ -16,6 +16,7 @@ pub mod plot;
 pub mod progress;
 pub mod radius;
 pub mod report;
+pub mod run;
 pub mod staging;
 pub mod sweep;
 pub mod write_mesh;

@@ -273,7 +273,7 @@ fn solve_and_write(
     )))
 }
 
-fn write_outputs(
+pub(crate) fn write_outputs(
     out: &Path,
     model: &Model,
     dofs: &DofMap,

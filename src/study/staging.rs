@@ -17,9 +17,12 @@ use std::path::{Path, PathBuf};
 /// anything else is not replaced (it would be lost with the old results).
 fn written_by_squeal(name: &str, is_dir: bool) -> bool {
     if is_dir {
-        return name.starts_with("mu_");
+        return name.starts_with("mu_") || name.starts_with("step-");
     }
-    const FILES: [&str; 11] = [
+    const FILES: [&str; 14] = [
+        "run.json",
+        "static.json",
+        "static.vtu",
         "sweep.json",
         "modes.json",
         "modes.csv",

@@ -62,6 +62,7 @@ impl Reader {
                 normal: None,
                 separation: true,
                 friction: None,
+                linear_extra: (None, None),
                 loc: kw.loc,
             },
         );
@@ -184,19 +185,24 @@ impl Reader {
                 format!("*SURFACE BEHAVIOR: expected a slope > 0, found {slope}"),
             ));
         }
-        for k in 1..f.len() {
-            if self
-                .optional_number(&f, k, loc, "pressure-overclosure field")?
-                .is_some()
-            {
-                self.contact_notes.add(
-                    "the 2nd and 3rd fields of PRESSURE-OVERCLOSURE=LINEAR (CalculiX's tension \
-                     at large clearance and its clearance) are not used: squeal's law is \
-                     p = slope * max(0, overclosure), no tension when open",
-                    loc,
-                );
-                break;
+        let tension = self.optional_number(&f, 1, loc, "tension at large clearance")?;
+        let clearance = self.optional_number(&f, 2, loc, "clearance factor c0")?;
+        for (value, what) in [(tension, "tension at large clearance"), (clearance, "c0")] {
+            if value.is_some_and(|v| !(v.is_finite() && v >= 0.0)) {
+                return Err(self.err(loc, format!("*SURFACE BEHAVIOR: expected a {what} >= 0")));
             }
+        }
+        if tension.is_some() || clearance.is_some() {
+            self.contact_notes.add(
+                "the 2nd and 3rd fields of PRESSURE-OVERCLOSURE=LINEAR (CalculiX's tension \
+                 at large clearance and its clearance) are used by the CalculiX contact \
+                 variant only (contact_variant = \"calculix\"): squeal's law is \
+                 p = slope * max(0, overclosure), no tension when open",
+                loc,
+            );
+        }
+        if let Some(draft) = self.interactions.get_mut(interaction) {
+            draft.linear_extra = (tension, clearance);
         }
         if let Some(draft) = self.interactions.get_mut(interaction) {
             if let Some((n, _)) = &mut draft.normal {
@@ -418,6 +424,8 @@ impl Reader {
                     separation: draft.separation,
                     friction,
                     stick_slope,
+                    tension: draft.linear_extra.0,
+                    clearance_factor: draft.linear_extra.1,
                     source: self.lines.source(draft.loc),
                 },
             );

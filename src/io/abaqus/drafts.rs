@@ -217,6 +217,8 @@ pub(super) struct InteractionDraft {
     /// `false` with `NO SEPARATION`.
     pub(super) separation: bool,
     pub(super) friction: Option<FrictionDraft>,
+    /// `PRESSURE-OVERCLOSURE=LINEAR`'s tension at large clearance and clearance factor.
+    pub(super) linear_extra: (Option<f64>, Option<f64>),
     pub(super) loc: Loc,
 }
 
@@ -352,6 +354,15 @@ pub(super) enum Block {
     Frequency {
         subspace: bool,
         lines: usize,
+    },
+    ComplexFrequency {
+        lines: usize,
+    },
+    /// `*MOTION` data lines (the keyword's place merges its translation lines).
+    Motion {
+        rotation: bool,
+        by_nodes: bool,
+        keyword: Loc,
     },
     /// Data lines of `*SURFACE INTERACTION` (Abaqus: the out-of-plane thickness of 2D models).
     Interaction,

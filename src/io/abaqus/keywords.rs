@@ -5,15 +5,14 @@
 use super::drafts::*;
 use super::lexer::{Keyword, Name};
 use super::reader::Reader;
-use super::{FrequencyRequest, Procedure, Replaced, StaticRequest};
+use super::{ComplexFrequencyRequest, FrequencyRequest, Procedure, Replaced, StaticRequest};
 use crate::mesh::MeshError;
 
 /// Element types read as C3D10: same nodes and node order; squeal uses its own formulation.
 const C3D10_VARIANTS: [&str; 6] = ["C3D10M", "C3D10I", "C3D10H", "C3D10HS", "C3D10MH", "C3D10T"];
 
 /// Procedures that are recognised (so that a step using one is kept) but not read.
-const OTHER_PROCEDURES: [&str; 18] = [
-    "COMPLEXFREQUENCY",
+const OTHER_PROCEDURES: [&str; 17] = [
     "BUCKLE",
     "STEADYSTATEDYNAMICS",
     "MODALDYNAMIC",
@@ -65,6 +64,12 @@ pub(super) fn refused(name: &str) -> Option<&'static str> {
         "NGEN" | "NFILL" | "NCOPY" | "NMAP" | "ELGEN" | "ELCOPY" => {
             "node and element generation is not supported; list the nodes and elements"
         }
+        "CHANGEFRICTION" | "CHANGESURFACEBEHAVIOR" => {
+            "changing a surface interaction in a step is not supported: give the interaction \
+             the friction and law it has in the steps squeal runs (squeal sweep sets the swept \
+             interaction's mu itself)"
+        }
+        "MODELCHANGE" => "removing or adding elements or contact pairs in a step is not supported",
         _ => return None,
     })
 }
@@ -144,6 +149,7 @@ impl Reader {
             "EQUATION" | "TRANSFORM" | "COUPLING" | "DISTRIBUTING" | "KINEMATIC" => {
                 self.constraint_keyword(&mut kw)?
             }
+            "MOTION" => self.motion_keyword(&mut kw)?,
             "STEP" => self.step_keyword(&mut kw)?,
             "ENDSTEP" => {
                 let Some(step) = self.step.take() else {
@@ -153,8 +159,8 @@ impl Reader {
                     return Err(self.err(
                         kw.loc,
                         format!(
-                            "the step that begins at {} has no procedure (expected *STATIC or \
-                             *FREQUENCY)",
+                            "the step that begins at {} has no procedure (expected *STATIC, \
+                             *FREQUENCY or *COMPLEX FREQUENCY)",
                             self.lines.at(step.loc)
                         ),
                     ));
@@ -182,6 +188,14 @@ impl Reader {
                 let subspace = solver.is_some_and(|s| s.eq_ignore_ascii_case("SUBSPACE"));
                 self.set_procedure(&kw, Procedure::Frequency(FrequencyRequest::default()))?;
                 Block::Frequency { subspace, lines: 0 }
+            }
+            "COMPLEXFREQUENCY" => {
+                self.complex_frequency_keyword(&mut kw)?;
+                self.set_procedure(
+                    &kw,
+                    Procedure::ComplexFrequency(ComplexFrequencyRequest::default()),
+                )?;
+                Block::ComplexFrequency { lines: 0 }
             }
             "BOUNDARY" => {
                 if let Some(t) = self.param(&mut kw, "TYPE")? {
@@ -277,6 +291,8 @@ impl Reader {
                 | "COUPLING"
                 | "DISTRIBUTING"
                 | "KINEMATIC"
+                | "MOTION"
+                | "COMPLEXFREQUENCY"
                 | "STEP"
                 | "ENDSTEP"
                 | "STATIC"
@@ -579,6 +595,9 @@ impl Reader {
                     self.lines.at(m.loc)
                 ),
             ));
+        }
+        if self.first_material.is_none() {
+            self.first_material = Some(name.canon.clone());
         }
         self.materials.insert(
             name.canon.clone(),

@@ -21,6 +21,8 @@
 //! | `*SURFACE INTERACTION, NAME=` with `*SURFACE BEHAVIOR` (`PRESSURE-OVERCLOSURE=LINEAR` slope, `HARD`, `NO SEPARATION`) and `*FRICTION` (mu, stick slope) | [`SurfaceInteraction`] |
 //! | `*CONTACT PAIR, INTERACTION=, TYPE=NODE TO SURFACE` (`SMALL SLIDING`, `ADJUST=` distance) | [`DeckContactPair`] (element- or node-based slave) |
 //! | `*EQUATION` (node sets expanded), `*TRANSFORM, NSET=, TYPE=R \| C`, `*COUPLING, REF NODE=, SURFACE=` + `*DISTRIBUTING` | [`Equation`], [`DeckTransform`], [`DeckCoupling`] (`constraint_lines.rs`) |
+//! | `*MOTION, ROTATION` / `TRANSLATION`, `TYPE=VELOCITY` (node set, angular speed and two axis points, or DOFs and speed) | [`Motion`] (model data or a step's) |
+//! | `*COMPLEX FREQUENCY` (modes, minimum and maximum frequency, shift) | [`Procedure::ComplexFrequency`] |
 //!
 //! `INPUT=` on a data keyword (`*NODE, INPUT=nodes.inp`) reads its data lines from that file.
 //! A keyword line ending with a comma continues on the next line. Other keywords (`*OUTPUT`,
@@ -80,7 +82,7 @@
 //! `reader.rs` (the reader's state and line loop), `keywords.rs` (what each keyword starts),
 //! `mesh_lines.rs`, `material_lines.rs`, `procedure_lines.rs` and `load_lines.rs` (data lines
 //! by keyword family), `discrete_lines.rs` (springs and point masses, read and resolved),
-//! `contact_lines.rs` (the contact keywords, read and resolved), `drafts.rs` (what was said, unresolved), `resolve.rs` (labels and names
+//! `contact_lines.rs` (the contact keywords, read and resolved), `motion_lines.rs` (`*MOTION`), `drafts.rs` (what was said, unresolved), `resolve.rs` (labels and names
 //! to the model), `records.rs` (the public records) and `steps.rs` (what is in force in a
 //! step).
 
@@ -94,6 +96,7 @@ mod lines;
 mod load_lines;
 mod material_lines;
 mod mesh_lines;
+mod motion_lines;
 mod procedure_lines;
 mod reader;
 mod records;
@@ -111,9 +114,10 @@ pub use constraint_lines::{
 };
 use reader::Reader;
 pub use records::{
-    Boundary, ConcentratedLoad, DeckContactPair, DeckMass, DeckSpring, FrequencyRequest,
-    NodeTarget, NormalBehavior, PressureLoad, PressureTarget, Procedure, Replaced, SlaveSurface,
-    SourceLine, SpringEnds, StaticRequest, Step, SurfaceInteraction,
+    Boundary, ComplexFrequencyRequest, ConcentratedLoad, DeckContactPair, DeckMass, DeckSpring,
+    FrequencyRequest, Motion, MotionKind, NodeTarget, NormalBehavior, PressureLoad, PressureTarget,
+    Procedure, Replaced, SlaveSurface, SourceLine, SpringEnds, StaticRequest, Step,
+    SurfaceInteraction,
 };
 pub use steps::Loading;
 
@@ -151,6 +155,11 @@ pub struct Deck {
     pub transforms: Vec<DeckTransform>,
     /// `*COUPLING` + `*DISTRIBUTING`, one per reference node.
     pub couplings: Vec<DeckCoupling>,
+    /// `*MOTION`s given in the model data (those of a step are on [`Step::motions`]).
+    pub motions: Vec<Motion>,
+    /// Young's modulus of the deck's first `*MATERIAL`: CalculiX derives its default
+    /// tension at large clearance (E / 70000) and `HARD`'s slope (50 E) from it.
+    pub first_young: Option<f64>,
     /// Things a person should know: skipped keywords, ignored parameters and DOFs...
     pub warnings: Vec<String>,
 }

@@ -44,6 +44,10 @@ pub(super) struct Reader {
     /// The interaction that `*SURFACE BEHAVIOR` / `*FRICTION` belong to.
     pub(super) interaction: Option<String>,
     pub(super) contact_pairs: Vec<ContactPairDraft>,
+    /// `*MOTION` data lines.
+    pub(super) motions: Vec<super::motion_lines::MotionDraft>,
+    /// Young's modulus of the first `*MATERIAL` (once its `*ELASTIC` is read).
+    pub(super) first_material: Option<String>,
     /// Differences between the deck's contact law and squeal's, for one warning.
     pub(super) contact_notes: Tally,
 
@@ -91,6 +95,8 @@ impl Reader {
             interactions: BTreeMap::new(),
             interaction: None,
             contact_pairs: Vec::new(),
+            motions: Vec::new(),
+            first_material: None,
             contact_notes: Tally::default(),
             constraints: Default::default(),
             model: LoadDrafts::default(),
@@ -268,6 +274,18 @@ impl Reader {
             Block::Frequency { subspace, lines } => {
                 *lines += 1;
                 self.frequency_line(*subspace, *lines, text, loc)
+            }
+            Block::ComplexFrequency { lines } => {
+                *lines += 1;
+                self.complex_frequency_line(*lines, text, loc)
+            }
+            Block::Motion {
+                rotation,
+                by_nodes,
+                keyword,
+            } => {
+                let (rotation, by_nodes, keyword) = (*rotation, *by_nodes, *keyword);
+                self.motion_line(rotation, by_nodes, keyword, text, loc)
             }
             Block::Interaction => {
                 self.ignored_parameters.add(

@@ -98,11 +98,26 @@ pub struct StaticRequest {
     pub maximum_increment: Option<f64>,
 }
 
+/// The `*COMPLEX FREQUENCY` data line (Abaqus' CEA step), blanks as `None`.
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct ComplexFrequencyRequest {
+    /// Number of complex eigenmodes wanted (`None`: all in the range).
+    pub eigenvalues: Option<usize>,
+    /// Minimum frequency of interest, cycles per time.
+    pub lower_frequency: Option<f64>,
+    /// Maximum frequency of interest, cycles per time.
+    pub upper_frequency: Option<f64>,
+    /// Shift point, cycles per time: with a number of modes, those whose frequency is
+    /// nearest to it are kept.
+    pub shift: Option<f64>,
+}
+
 /// The analysis procedure of a step.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Procedure {
     Static(StaticRequest),
     Frequency(FrequencyRequest),
+    ComplexFrequency(ComplexFrequencyRequest),
     /// A procedure this reader recognises but does not read, e.g. `*COMPLEX FREQUENCY`.
     Unsupported {
         keyword: String,
@@ -137,7 +152,36 @@ pub struct Step {
     pub concentrated_loads: Vec<ConcentratedLoad>,
     pub pressures: Vec<PressureLoad>,
     pub replaced: Replaced,
+    /// `*MOTION`s given in this step (in force from this step on).
+    pub motions: Vec<Motion>,
     /// The `*STEP` line.
+    pub source: SourceLine,
+}
+
+/// How a `*MOTION` moves its nodes (a transport velocity, `TYPE=VELOCITY`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum MotionKind {
+    /// `*MOTION, ROTATION`: angular velocity `speed` (radians per time, signed) about the
+    /// axis from `from` to `to`.
+    Rotation {
+        speed: f64,
+        from: [f64; 3],
+        to: [f64; 3],
+    },
+    /// `*MOTION, TRANSLATION`: the velocity (the lines of one keyword on one target add up
+    /// their components).
+    Translation { velocity: [f64; 3] },
+}
+
+/// A `*MOTION, TYPE=VELOCITY` data line: the velocity of a body's nodes, from which the
+/// contact pairs whose master (or slave) surface those nodes carry get their sliding
+/// direction.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Motion {
+    pub target: NodeTarget,
+    /// Internal node indices of the target, sorted.
+    pub nodes: Vec<usize>,
+    pub kind: MotionKind,
     pub source: SourceLine,
 }
 
@@ -166,6 +210,12 @@ pub struct SurfaceInteraction {
     /// CalculiX's stick slope (second field of the `*FRICTION` data line), tangential
     /// stiffness per unit area while sticking; `None`: squeal's default (penalty / 100).
     pub stick_slope: Option<f64>,
+    /// `PRESSURE-OVERCLOSURE=LINEAR`'s 2nd field, CalculiX's tension at large clearance
+    /// (pressure), used by the CalculiX contact variant; `None` when blank.
+    pub tension: Option<f64>,
+    /// The 3rd field, CalculiX's c0: no contact spring beyond c0 sqrt(slave area) of
+    /// clearance; `None` when blank.
+    pub clearance_factor: Option<f64>,
     /// The `*SURFACE INTERACTION` line.
     pub source: SourceLine,
 }

@@ -64,7 +64,7 @@ impl Reader {
                 .ok_or_else(|| self.err(draft.loc, "step without a procedure"))?;
             let perturbation = draft.perturbation_parameter
                 || match &procedure {
-                    Procedure::Frequency(_) => true,
+                    Procedure::Frequency(_) | Procedure::ComplexFrequency(_) => true,
                     Procedure::Static(_) => false,
                     Procedure::Unsupported { keyword } => {
                         let name: String = keyword[1..].split_whitespace().collect();
@@ -81,9 +81,19 @@ impl Reader {
                 concentrated_loads,
                 pressures,
                 replaced: draft.replaced,
+                motions: Vec::new(),
                 source: self.lines.source(draft.loc),
             });
         }
+        let mut motions = self.resolve_motions(&mesh)?;
+        for (k, step) in steps.iter_mut().enumerate() {
+            step.motions = motions.remove(&Some(k)).unwrap_or_default();
+        }
+        let first_young = self
+            .first_material
+            .as_ref()
+            .and_then(|m| mesh.materials.get(m))
+            .map(|m| m.young);
 
         let (equations, transforms, couplings) =
             self.resolve_constraints(&mesh, &self.node_surfaces.keys().cloned().collect())?;
@@ -107,6 +117,8 @@ impl Reader {
             concentrated_loads,
             pressures,
             steps,
+            motions: motions.remove(&None).unwrap_or_default(),
+            first_young,
             warnings: self.warnings,
         })
     }
@@ -374,7 +386,7 @@ impl Reader {
         Ok(())
     }
 
-    fn nodes_of(
+    pub(super) fn nodes_of(
         &self,
         target: &NodeRef,
         loc: Loc,

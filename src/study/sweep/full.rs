@@ -596,7 +596,11 @@ impl<'rt> FrictionModel<'rt> for FullModel<'rt> {
         // comes back to within one rounding per entry, far below anything the next static
         // solve resolves. With constraints the CEA is of C^T K_t C and C^T M C.
         let tangent = |source| StudyError::Tangent { mu, source };
-        statics::add_contact_tangent(comm, k, dofs, &self.model.pairs, slip, u, 1.0)
+        // The tangent of the perturbation: the last increment's consistent one (CalculiX's for
+        // pairs with its law: contact::variant).
+        let after = &equilibrium.slip_after;
+        let pairs = &self.model.pairs;
+        statics::add_perturbation_tangent(comm, k, dofs, pairs, slip, after, u, 1.0)
             .map_err(tangent)?;
         let result = match constraints {
             None => collective(
@@ -617,7 +621,7 @@ impl<'rt> FrictionModel<'rt> for FullModel<'rt> {
                 )
             }
         };
-        statics::add_contact_tangent(comm, k, dofs, &self.model.pairs, slip, u, -1.0)
+        statics::add_perturbation_tangent(comm, k, dofs, pairs, slip, after, u, -1.0)
             .map_err(tangent)?;
         let mut result = result?;
         // Shapes of a constrained model in the full numbering: u = C x (no offset: a
@@ -720,6 +724,11 @@ pub(super) fn mesh_part(mut values: Vec<[f64; 3]>, mesh: &Mesh) -> Vec<[f64; 3]>
 /// Where a node-to-surface model's contact forces go: each swept pair's points to their
 /// slave node.
 fn node_to_surface_spread(model: &Model) -> Vec<SweptSurface> {
+    spread_of(model, |i| model.swept[i])
+}
+
+/// [`node_to_surface_spread`] of the pairs `which` picks.
+fn spread_of(model: &Model, which: impl Fn(usize) -> bool) -> Vec<SweptSurface> {
     let mut spread = Vec::new();
     for (i, pair) in model.pairs.iter().enumerate() {
         let Some(Some((slave, _))) = model.pair_surfaces.get(i) else {
@@ -728,7 +737,7 @@ fn node_to_surface_spread(model: &Model) -> Vec<SweptSurface> {
         let Some(surface) = model.mesh.surfaces.get(slave) else {
             continue;
         };
-        if model.swept[i] {
+        if which(i) {
             spread.push(SweptSurface {
                 pair: i,
                 per_point: pair.points.iter().map(|p| p.slave.clone()).collect(),
@@ -777,7 +786,37 @@ impl FullModel<'_> {
         contact: &[Vec<contact::PointState>],
         unstable: Vec<UnstableShape>,
     ) -> PointFields {
-        let model = &self.model;
+        fields_with(&self.model, &self.spread, displacement, contact, unstable)
+    }
+}
+
+/// The fields of a node-to-surface model's equilibrium (rank 0), as a sweep point writes
+/// them, every element-based pair in its contact map: what `squeal run` writes for a deck's
+/// steps.
+pub fn equilibrium_fields(
+    model: &Model,
+    displacement: &[[f64; 3]],
+    contact: &[Vec<contact::PointState>],
+    unstable: Vec<UnstableShape>,
+) -> PointFields {
+    fields_with(
+        model,
+        &spread_of(model, |_| true),
+        displacement,
+        contact,
+        unstable,
+    )
+}
+
+/// The static displacement, the contact map and the pressure on the pad surfaces `spread`.
+fn fields_with(
+    model: &Model,
+    spread: &[SweptSurface],
+    displacement: &[[f64; 3]],
+    contact: &[Vec<contact::PointState>],
+    unstable: Vec<UnstableShape>,
+) -> PointFields {
+    {
         let n = model.mesh.nodes.len();
         let mut contact_pressure = vec![0.0; n];
         let mut contact_closed = vec![-1.0; n];
@@ -796,7 +835,7 @@ impl FullModel<'_> {
             }
         }
         let mut map = ContactMap::default();
-        for swept in &self.spread {
+        for swept in spread {
             let pair = &model.pairs[swept.pair];
             let states = &contact[swept.pair];
             for (pt, s) in pair.points.iter().zip(states) {
@@ -831,8 +870,7 @@ impl FullModel<'_> {
                 tracing::warn!("von Mises stress not computed: {e}");
                 vec![0.0; n]
             });
-        let mut nodes: Vec<usize> = self
-            .spread
+        let mut nodes: Vec<usize> = spread
             .iter()
             .flat_map(|swept| swept.areas.keys().copied())
             .collect();

@@ -15,8 +15,10 @@ pub mod point_cache;
 mod superelement;
 
 pub use checkpoint::{EquilibriumState, ModelCheckpoint, PathPoint, SuperElementState};
-pub use full::FullModel;
-pub use output::{ModelInfo, PairReport, SuperElementInfo, SuperElementPoint, SweepPointReport};
+pub use full::{equilibrium_fields, FullModel};
+pub use output::{
+    write_fields, ModelInfo, PairReport, SuperElementInfo, SuperElementPoint, SweepPointReport,
+};
 pub use superelement::{SuperElementModel, SuperElementSettings};
 
 use super::config::{ReductionSpec, Study};
@@ -168,6 +170,8 @@ pub struct SweepArgs {
     pub interaction: Option<String>,
     /// Their sliding direction (study key `mesh.sliding`).
     pub sliding: Option<crate::contact::SlidingDirection>,
+    /// A deck's contact law variant (study key `mesh.contact_variant`).
+    pub contact_variant: Option<crate::contact::ContactVariant>,
 }
 
 /// What `squeal sweep`'s super-element flags change in the study's `[reduction]`.
@@ -243,18 +247,36 @@ pub fn study_from_args(
     if args.sliding.is_some() {
         study.mesh.sliding = args.sliding;
     }
-    if file.is_some_and(super::config::is_deck) && study.mesh.sliding.is_none() {
-        // The same flags on every rank: every rank has this error.
-        return Err(StudyError::BadFlag {
-            flag: "--disc-axis",
-            why: "a friction sweep of a deck needs the sliding direction of the pairs the \
-                  disc slides under, and the deck gives none (*MOTION is not read): give \
-                  --disc-axis X0,Y0,Z0,AX,AY,AZ (the disc turns about that axis, positive \
-                  sense) or --sliding-direction X,Y,Z, and --interaction NAME when the deck \
-                  has several interactions"
-                .into(),
+    if args.contact_variant.is_some() {
+        study.mesh.contact_variant = args.contact_variant;
+    }
+    if let Some(path) = file.filter(|p| super::config::is_deck(p)) {
+        if study.mesh.sliding.is_none() {
+            // The deck may give the sliding itself (*MOTION): read it to know, before any
+            // assembly (the same deck on every rank: every rank has the answer).
+            let deck = collective(
+                comm,
+                crate::io::abaqus::read(path).map_err(|source| StudyError::StudyModel {
+                    file: path.display().to_string(),
+                    source: crate::model::ModelError::from(source),
+                }),
+            )?;
+            let moves =
+                !deck.motions.is_empty() || deck.steps.iter().any(|s| !s.motions.is_empty());
+            if !moves {
+                return Err(StudyError::BadFlag {
+                    flag: "--disc-axis",
+                    why: "a friction sweep of a deck needs the sliding direction of the pairs \
+                          the disc slides under, and the deck gives none (no *MOTION): give \
+                          --disc-axis X0,Y0,Z0,AX,AY,AZ (the disc turns about that axis, \
+                          positive sense) or --sliding-direction X,Y,Z, and --interaction NAME \
+                          when the deck has several interactions, or a *MOTION, ROTATION, \
+                          TYPE=VELOCITY on the disc's nodes in the deck"
+                        .into(),
+                }
+                .collective());
+            }
         }
-        .collective());
     }
     if let Some(f) = args.friction {
         study.analysis.friction = f;

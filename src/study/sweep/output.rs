@@ -251,6 +251,17 @@ pub fn write_point(
     let Some(fields) = fields else {
         return Ok(());
     };
+    write_fields(dir, mesh, fields, "cea.vtu")
+}
+
+/// A point's contact.json and its VTU file `vtu` (static displacement, contact pressure and
+/// states, von Mises stress, unstable mode shapes).
+pub fn write_fields(
+    dir: &Path,
+    mesh: &Mesh,
+    fields: &PointFields,
+    vtu: &str,
+) -> Result<(), StudyError> {
     let contact = dir.join("contact.json");
     let json = serde_json::to_vec(&fields.contact).map_err(|source| StudyError::JsonFile {
         path: contact.clone(),
@@ -280,7 +291,7 @@ pub fn write_point(
     for f in &all {
         writer = writer.point_field(f);
     }
-    writer.write(&dir.join("cea.vtu"))?;
+    writer.write(&dir.join(vtu))?;
     Ok(())
 }
 
