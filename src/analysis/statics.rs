@@ -276,19 +276,44 @@ pub struct PointTangent {
     pub status: Status,
     /// Coulomb pairs' blocks change with their state and, while slipping, with every step.
     pub coulomb: bool,
+    /// The block the point adds at its first node (zero when open): a slipping point's
+    /// moves with its slip direction and trial force, by less and less as Newton converges.
+    pub block: [[f64; 3]; 3],
 }
+
+/// A slipping point whose block moved by at most this fraction (Frobenius norm) counts as
+/// unchanged: GMRES around the kept factorisation then meets a perturbation of the
+/// preconditioned operator of about this size per such point, not a rank-2 change, and
+/// converges in a few iterations. On the brake every one of the hundreds of slipping points
+/// moves at every iteration, so counting each as rank 2 refactorised at every Newton step,
+/// the quadratic last ones included, where the directions have settled to 1e-4 and below.
+const SETTLED_SLIP: f64 = 1e-3;
 
 impl PointTangent {
     /// An upper bound on the rank of the change of this point's tangent block since
     /// `before`: 1 for a steady-sliding point opening or closing (`k A (n + mu t) n^T`),
     /// 3 for a Coulomb point changing state, 2 for one that keeps slipping (its tangential
-    /// block moves with the slip direction).
+    /// block moves with the slip direction) unless its block has settled ([`SETTLED_SLIP`]).
     pub fn rank_of_change(&self, before: &PointTangent) -> usize {
         match (self.coulomb, self.status == before.status) {
             (false, true) => 0,
             (false, false) => 1,
             (true, false) => 3,
-            (true, true) => 2 * usize::from(self.status == Status::Slip),
+            (true, true) if self.status != Status::Slip => 0,
+            (true, true) => {
+                let squared = |b: &[[f64; 3]; 3]| b.iter().flatten().map(|v| v * v).sum::<f64>();
+                let mut change = [[0.0; 3]; 3];
+                for (i, row) in change.iter_mut().enumerate() {
+                    for (j, v) in row.iter_mut().enumerate() {
+                        *v = self.block[i][j] - before.block[i][j];
+                    }
+                }
+                if squared(&change) <= SETTLED_SLIP * SETTLED_SLIP * squared(&before.block) {
+                    0
+                } else {
+                    2
+                }
+            }
         }
     }
 }
@@ -327,17 +352,21 @@ pub fn add_contact_tangent<'rt>(
     for (pair, point, anchor) in owned_points(pairs, slip, dofs) {
         match contact::evaluate(pair, point, anchor, u) {
             Ok((state, contribution)) => {
-                closed.push(PointTangent {
+                let mut tangent = PointTangent {
                     status: state.status,
                     coulomb: pair.stick_stiffness().is_some(),
-                });
+                    block: [[0.0; 3]; 3],
+                };
                 if let Some(mut c) = contribution {
+                    let width = 3 * c.nodes.len();
+                    tangent.block = [0, 1, 2].map(|i| [0, 1, 2].map(|j| c.jacobian[i * width + j]));
                     let idx = equations(dofs, &c.nodes);
                     if scale != 1.0 {
                         c.jacobian.iter_mut().for_each(|v| *v *= scale);
                     }
                     j.add_block(&idx, &idx, &c.jacobian)?;
                 }
+                closed.push(tangent);
             }
             Err(e) => {
                 failure = Some(e);
@@ -722,4 +751,47 @@ fn newton<'rt>(
     let mut snes = NonlinearSolver::new(comm, residual, jacobian, j, options)?;
     let result = snes.solve(x);
     Ok(result?)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::contact::coulomb::{return_mapping, PointLaw};
+
+    /// A point of a Coulomb pair pressed with 1 kN, its tangent block as
+    /// [`add_contact_tangent`] stores it (k A n n^T - d f_T / d w, one node of weight 1).
+    fn point(w: [f64; 3]) -> PointTangent {
+        let law = PointLaw {
+            normal: [0.0, 0.0, 1.0],
+            friction: 0.3,
+            normal_stiffness: 1e9,
+            stick_stiffness: 1e9,
+            cone_tolerance: 0.0,
+        };
+        let t = return_mapping(&law, w, [0.0; 3], 1e3, true);
+        PointTangent {
+            status: t.status,
+            coulomb: true,
+            block: [0, 1, 2]
+                .map(|i| [0, 1, 2].map(|j| 1e9 * law.normal[i] * law.normal[j] - t.jacobian[i][j])),
+        }
+    }
+
+    #[test]
+    fn a_settled_slip_keeps_the_factorisation_and_a_turning_one_does_not() {
+        // Trial force 1e9 * 1e-5 = 1e4 N against a cone of 300 N: slipping.
+        let slipping = point([1e-5, 0.0, 0.0]);
+        assert_eq!(slipping.status, Status::Slip);
+        // Newton's last steps: the slip direction turns by 1e-7 rad and the trial grows.
+        let settled = point([1.00001e-5, 1e-12, 0.0]);
+        assert_eq!(settled.rank_of_change(&slipping), 0);
+        // An early step: the direction turns by 0.1 rad.
+        let turned = point([1e-5, 1e-6, 0.0]);
+        assert_eq!(turned.rank_of_change(&slipping), 2);
+        // Slip to stick (trial 100 N inside the cone), and a point that keeps sticking.
+        let stuck = point([1e-7, 0.0, 0.0]);
+        assert_eq!(stuck.status, Status::Stick);
+        assert_eq!(stuck.rank_of_change(&slipping), 3);
+        assert_eq!(point([0.0, 1e-7, 0.0]).rank_of_change(&stuck), 0);
+    }
 }
