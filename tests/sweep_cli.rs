@@ -784,3 +784,48 @@ fn a_sweep_gives_the_same_numbers_on_one_to_four_ranks() {
         }
     }
 }
+
+/// A reduced interface's tie springs (1e12-1e13 N/m on mesh nodes of small consistent mass)
+/// raise the largest K_ii / M_ii, and with it the round-off level under which eigenvalues
+/// were called rigid, into the band: `small-caliper` with 22 nodes per pad had its 372 and
+/// 519 Hz modes flagged rigid (medium-caliper with 52, 430-730 Hz, one pair growing at +150
+/// to +394 1/s and not flagged unstable). Every body of a sweep's model is held (the static
+/// proves it), so no mode is rigid, and each mode's flag is its real part's verdict.
+#[test]
+fn a_held_reduced_interface_model_has_no_rigid_modes() {
+    let out = scratch("held-reduced");
+    let dir = out.to_str().unwrap();
+    success(
+        2,
+        &[
+            "sweep",
+            "--preset",
+            "small-caliper",
+            "--contact-nodes-per-pad",
+            "22",
+            "--friction",
+            "0.5",
+            "-o",
+            dir,
+            "-q",
+        ],
+    );
+    let sweep: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("sweep.json")).unwrap()).unwrap();
+    let modes = sweep["points"][0]["eigenvalues"].as_array().unwrap();
+    assert!(modes.len() > 40, "{} modes", modes.len());
+    for m in modes {
+        let (f, re) = (
+            m["frequency_hz"].as_f64().unwrap(),
+            m["real_part"].as_f64().unwrap(),
+        );
+        assert_eq!(m["rigid_body"], false, "{f} Hz called rigid");
+        let lambda = Complex64::new(re, 2.0 * std::f64::consts::PI * f);
+        assert_eq!(
+            m["unstable"].as_bool().unwrap(),
+            squeal::analysis::cea::is_unstable(lambda, 1e-6),
+            "{f} Hz, real part {re}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&out);
+}

@@ -54,6 +54,12 @@ pub struct CeaOptions {
     /// when the guess falls short, so a wrong guess costs time, never modes.
     pub expected_modes: Option<usize>,
     pub linear: LinearMethod,
+    /// How many rigid-body motions the model has, when the restraint check knows (a loaded
+    /// brake, every body held: 0). The round-off level alone is 1e-9 of the largest
+    /// K_ii / M_ii, and a reduced interface's tie springs (1e12-1e13 N/m on mesh nodes of
+    /// small consistent mass) lift that into the band: medium-caliper's lowest modes,
+    /// 430-730 Hz, were called rigid, and so never unstable (see [`crate::analysis::rigid`]).
+    pub expected_rigid_modes: Option<usize>,
 }
 
 impl Default for CeaOptions {
@@ -65,6 +71,7 @@ impl Default for CeaOptions {
             unstable_threshold: 1e-6,
             expected_modes: None,
             linear: LinearMethod::default(),
+            expected_rigid_modes: None,
         }
     }
 }
@@ -421,7 +428,7 @@ pub fn undamped<'rt>(
     }
     let level = rigid::roundoff_level(comm, stiffness, mass)?;
     let magnitudes: Vec<f64> = accepted.iter().map(|a| a.0.norm()).collect();
-    let rigid = rigid::rigid_body_flags(&magnitudes, level, None);
+    let rigid = rigid::rigid_body_flags(&magnitudes, level, options.expected_rigid_modes);
     let mut items: Vec<(ComplexMode, Vector, Vector)> = accepted
         .into_iter()
         .zip(rigid)
@@ -525,7 +532,7 @@ pub fn damped<'rt>(
         // |omega^2| = |lambda|^2 against the undamped operators' round-off level.
         let level = rigid::roundoff_level(comm, stiffness, mass)?;
         let magnitudes: Vec<f64> = values.iter().map(|v| v.1.norm_sqr()).collect();
-        let rigid = rigid::rigid_body_flags(&magnitudes, level, None);
+        let rigid = rigid::rigid_body_flags(&magnitudes, level, options.expected_rigid_modes);
         let mut items = Vec::new();
         for ((i, value, mut re, mut im), rigid_body) in values.into_iter().zip(rigid) {
             // One of each conjugate pair: non-negative frequency.

@@ -160,9 +160,16 @@ impl<'rt> FullModel<'rt> {
             .flat_map(|&n| (0..3).filter_map(move |c| dofs.equation(n, c)))
             .collect();
         let spread = node_to_surface_spread(&model);
+        let bodies = restraint::bodies(&model.mesh);
+        let mut cea = cea;
+        // Every CEA of a sweep follows a static that proved each body held (it stops on a
+        // free one): no mode is rigid, whatever the round-off level says.
+        if !bodies.is_empty() {
+            cea.expected_rigid_modes.get_or_insert(0);
+        }
         FullModel {
             spread,
-            bodies: restraint::bodies(&model.mesh),
+            bodies,
             model,
             operators,
             free_mass: None,
