@@ -125,14 +125,6 @@ impl Sweep {
         })
     }
 
-    /// (frequency, real part) of a track at point k.
-    fn mode(&self, track: usize, k: usize) -> Option<(f64, f64)> {
-        let t = self.tracks.iter().find(|t| t.id == track)?;
-        let i = (*t.members.get(k)?)?;
-        let m = self.points.get(k)?.eigenvalues.get(i)?;
-        Some((m.frequency_hz, m.real_part))
-    }
-
     fn point_at(&self, mu: f64) -> Option<usize> {
         self.points
             .iter()
@@ -273,7 +265,11 @@ fn read_contact(dir: &Path, mu: f64) -> Option<crate::study::sweep::ContactMap> 
 }
 
 /// The complex MAC |a^H b|^2 / (|a|^2 |b|^2) of two instabilities' unstable shapes at the
-/// reference's mu of largest real part, on the pad surface nodes both models give.
+/// reference's mu of largest real part, on the pad surface nodes both models give. None when
+/// either folder has no unstable shape within [`MATCH_TOLERANCE`] of its instability's
+/// frequency there: the nearest shape would be another instability's (a folder whose CEA
+/// called the 645 Hz pair rigid, hence wrote no shape for it, gave a MAC of 0.39 against
+/// the 1207 Hz one).
 fn instability_mac(
     reference: &Path,
     ri: &InstabilityRecord,
@@ -285,6 +281,7 @@ fn instability_mac(
     let nearest = |m: &crate::study::sweep::ContactMap, f: f64| {
         m.unstable_shapes
             .iter()
+            .filter(|x| relative(x.frequency_hz, f) < MATCH_TOLERANCE)
             .min_by(|x, y| {
                 (x.frequency_hz - f)
                     .abs()
@@ -428,27 +425,56 @@ pub fn patch_pressure_l2(
     (den > 0.0).then(|| (num / den).sqrt())
 }
 
-/// The two modes of an instability at point k, sorted by frequency (lower first).
+/// An instability's modes at point k (frequency, real part), lower frequency first.
 fn pair_modes(s: &Sweep, i: &InstabilityRecord, k: usize) -> Option<Vec<(f64, f64)>> {
-    let mut modes = vec![s.mode(i.track, k)?];
-    if let Some(p) = i.partner {
-        modes.push(s.mode(p, k)?);
-    }
+    let eigenvalues = &s.points.get(k)?.eigenvalues;
+    let mut modes: Vec<(f64, f64)> = pair_indices(s, i, k)?
+        .into_iter()
+        .map(|n| (eigenvalues[n].frequency_hz, eigenvalues[n].real_part))
+        .collect();
     modes.sort_by(|a, b| a.0.total_cmp(&b.0));
     Some(modes)
 }
 
+/// Two eigenvalues closer than this (relative [`eigenvalue_distance`]) are one value twice:
+/// far above the CEA's accuracy (residuals of 1e-8 and below), far below any gap between two
+/// modes of a model.
+const MIRROR_TOLERANCE: f64 = 1e-6;
+
 /// The indices (into point k's eigenvalues) of an instability's modes, in any order.
+///
+/// Where the tracking lost the partner at k (linked the partner's track to another mode, or
+/// ended it) while the instability's own mode grows, the partner is still known: without
+/// damping the pencil is real, so with lambda its mirror -conj(lambda) (the same frequency,
+/// the opposite real part) is an eigenvalue too, and it is the coalesced pair's other mode.
+/// Measured on medium-caliper's reduced interface: its 645 Hz pair had a partner track for
+/// one of the seven friction values at which it was unstable, and eq. 12 was read at that
+/// one alone. With damping no exact mirror exists, and the point is skipped as before.
 fn pair_indices(s: &Sweep, i: &InstabilityRecord, k: usize) -> Option<Vec<usize>> {
     let member = |track: usize| {
         let t = s.tracks.iter().find(|t| t.id == track)?;
-        *t.members.get(k)?
+        let n = (*t.members.get(k)?)?;
+        (n < s.points.get(k)?.eigenvalues.len()).then_some(n)
     };
-    let mut indices = vec![member(i.track)?];
+    let own = member(i.track)?;
+    let mut indices = vec![own];
     if let Some(p) = i.partner {
-        indices.push(member(p)?);
+        indices.push(member(p).or_else(|| mirror(&s.points.get(k)?.eigenvalues, own))?);
     }
     Some(indices)
+}
+
+/// The mode that mirrors mode `n` (the same frequency, the opposite real part) when `n` grows
+/// (see [`pair_indices`]).
+fn mirror(modes: &[Mode], n: usize) -> Option<usize> {
+    let (f, a) = (modes[n].frequency_hz, modes[n].real_part);
+    if a <= 0.0 {
+        return None;
+    }
+    let distance = |m: &Mode| eigenvalue_distance((f, -a), (m.frequency_hz, m.real_part));
+    (0..modes.len())
+        .filter(|&m| m != n && distance(&modes[m]) <= MIRROR_TOLERANCE)
+        .min_by(|&x, &y| distance(&modes[x]).total_cmp(&distance(&modes[y])))
 }
 
 /// The distance between two eigenvalues lambda = a + i 2 pi f, relative to the first.
@@ -1302,5 +1328,119 @@ mod tests {
         let root = tempfile::tempdir().unwrap();
         let e = compare(root.path(), &[root.path().to_path_buf()]).unwrap_err();
         assert!(e.to_string().contains("sweep.json"), "{e}");
+    }
+
+    /// A growing pair whose partner track the reference's tracking lost after the first value
+    /// (as medium-caliper's 645 Hz pair): without damping the partner is the growing mode's
+    /// mirror (the same frequency, the opposite real part), so eq. 12 is read at every value;
+    /// where no mode mirrors it (a damped model), the value is skipped, not guessed.
+    #[test]
+    fn a_lost_partner_is_the_growing_modes_mirror() {
+        let root = tempfile::tempdir().unwrap();
+        let sweep = |dir: &Path, scale: f64, mirrored: bool| {
+            let m = |f: f64, a: f64| serde_json::json!({"frequency_hz": f * scale, "real_part": a});
+            let b = if mirrored { -300.0 } else { -250.0 };
+            let doc = serde_json::json!({
+                "model": {"source": "test", "equations": 10},
+                "points": [
+                    {"friction": 0.3, "eigenvalues": [m(626.0, -150.0), m(626.0, 150.0), m(1000.0, 0.0)]},
+                    {"friction": 0.4, "eigenvalues": [m(650.0, b), m(650.0, 300.0), m(1000.0, 0.0)]},
+                    {"friction": 0.5, "eigenvalues": [m(645.0, 2.0 * b), m(645.0, 600.0), m(1000.0, 0.0)]}
+                ],
+                // The partner's track goes on to the 1000 Hz mode, then ends.
+                "tracks": [
+                    {"id": 0, "members": [0, 2, null]},
+                    {"id": 1, "members": [1, 1, 1]}
+                ],
+                "instabilities": [{
+                    "track": 1, "partner": 0, "onset_mu": 0.3, "max_real_part": 600.0,
+                    "frequency_hz_at_max": 645.0 * scale, "mu_at_max": 0.5
+                }]
+            });
+            std::fs::create_dir_all(dir).unwrap();
+            std::fs::write(dir.join("sweep.json"), doc.to_string()).unwrap();
+        };
+        let (r, o, d) = (
+            root.path().join("ref"),
+            root.path().join("other"),
+            root.path().join("damped"),
+        );
+        sweep(&r, 1.0, true);
+        sweep(&o, 1.001, true);
+        sweep(&d, 1.0, false);
+        let r_sweep = Sweep::read(&r).unwrap();
+        // At 0.4 the tracked partner is the 1000 Hz mode: kept (the tracking's word stands
+        // where it has one); at 0.5 the mirror of the 645 Hz growing mode.
+        assert_eq!(
+            pair_indices(&r_sweep, &r_sweep.instabilities[0], 2),
+            Some(vec![1, 0])
+        );
+        assert_eq!(
+            unstable_friction(&r_sweep, &r_sweep.instabilities[0]),
+            vec![0.3, 0.4, 0.5]
+        );
+        let c = compare(&r, std::slice::from_ref(&o)).unwrap();
+        let mirrored = &c.instabilities[0];
+        let values: Vec<f64> = mirrored.per_friction.iter().map(|p| p.0).collect();
+        assert_eq!(values, vec![0.3, 0.4, 0.5], "{mirrored:?}");
+        // Each of the two modes 0.1 % off; the other model's pair found the same way.
+        assert!(
+            (mirrored.per_friction[2].1 - 0.002).abs() < 1e-12,
+            "{mirrored:?}"
+        );
+        assert!(mirrored.track_disagreements.is_empty(), "{mirrored:?}");
+        // A damped reference: no mirror at 0.5, so that value is not read.
+        let c = compare(&d, std::slice::from_ref(&o)).unwrap();
+        let damped = &c.instabilities[0];
+        let values: Vec<f64> = damped.per_friction.iter().map(|p| p.0).collect();
+        assert_eq!(values, vec![0.3, 0.4], "{damped:?}");
+    }
+
+    /// The MAC pairs shapes of the same instability only: a folder with no unstable shape
+    /// near the instability's frequency (its CEA called the mode stable or rigid) gives no
+    /// MAC, not the MAC against another instability's shape.
+    #[test]
+    fn no_mac_from_another_instabilitys_shape() {
+        let root = tempfile::tempdir().unwrap();
+        let folder = |name: &str, shapes: &[(f64, [f64; 3])]| {
+            let dir = root.path().join(name);
+            write_sweep(&dir, &[(645.0, 645.0)], 500.0);
+            let map = crate::study::sweep::ContactMap {
+                shape_nodes: vec![7],
+                unstable_shapes: shapes
+                    .iter()
+                    .map(|&(f, re)| crate::study::sweep::SurfaceShape {
+                        frequency_hz: f,
+                        real_part: 500.0,
+                        re: vec![re],
+                        im: vec![[0.0; 3]],
+                    })
+                    .collect(),
+                ..Default::default()
+            };
+            let point = dir.join("mu_0.100");
+            std::fs::create_dir_all(&point).unwrap();
+            std::fs::write(
+                point.join("contact.json"),
+                serde_json::to_string(&map).unwrap(),
+            )
+            .unwrap();
+            let mut sweep = Sweep::read(&dir).unwrap();
+            // Its one point is mu 0.1, where the shapes are.
+            sweep.instabilities[0].mu_at_max = 0.1;
+            (dir.clone(), sweep)
+        };
+        let (a, sa) = folder("a", &[(645.0, [1.0, 0.0, 0.0]), (1207.0, [0.0, 1.0, 0.0])]);
+        let (b, sb) = folder("b", &[(645.5, [2.0, 0.0, 0.0])]);
+        let (c, sc) = folder("c", &[(1207.0, [0.0, 1.0, 0.0])]);
+        let (ia, ib, ic) = (
+            &sa.instabilities[0],
+            &sb.instabilities[0],
+            &sc.instabilities[0],
+        );
+        let mac = instability_mac(&a, ia, &b, ib).unwrap();
+        assert!((mac - 1.0).abs() < 1e-15, "{mac}");
+        assert_eq!(instability_mac(&a, ia, &c, ic), None);
+        assert_eq!(instability_mac(&c, ic, &a, ia), None);
     }
 }

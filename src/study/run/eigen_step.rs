@@ -385,14 +385,21 @@ fn complex(
     band: &Band,
     out: &Path,
 ) -> Result<String, StudyError> {
-    let options = CeaOptions {
-        max_frequency_hz: band.upper,
-        ..Default::default()
-    };
     let pencil = solver_pencil(ops)?;
     let (k, m) = pencil
         .as_ref()
         .map_or((&ops.stiffness, &ops.mass), |(k, m)| (k, m));
+    // As the real-mode step: the restraint check counts the rigid motions, so penalty or tie
+    // stiffness that lifts the round-off level cannot call a held body's modes rigid.
+    let free = collective(
+        comm,
+        restraint::free_bodies(comm, k, ops.solver_dofs(), &restraint::bodies(&model.mesh)),
+    )?;
+    let options = CeaOptions {
+        max_frequency_hz: band.upper,
+        expected_rigid_modes: Some(free.iter().map(|b| b.motions.len()).sum()),
+        ..Default::default()
+    };
     let result = collective(comm, cea::solve(comm, k, m, None, &options))?;
     let mut kept: Vec<usize> = (0..result.modes.len())
         .filter(|&i| {
