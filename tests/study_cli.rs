@@ -134,6 +134,22 @@ fn a_study_runs_its_stages_reports_them_and_reruns_only_what_changed() {
     }
     // The tiny brake's two instabilities, in the reduced interface and the super-element.
     assert_eq!(rows, 4, "{report}");
+    // And each comparison's whole-band row per friction value, printed from compare.json.
+    for stage in ["compare-reduced", "compare-superelements"] {
+        let c = json(&out.join(stage).join("compare.json"));
+        let spectra = c["spectra"].as_array().unwrap();
+        assert_eq!(spectra.len(), 2, "{stage}: one model, two friction values");
+        for s in spectra {
+            let row = format!(
+                "| {:.2} | {} / {} | {:.2} % |",
+                s["friction"].as_f64().unwrap(),
+                s["reference_modes"],
+                s["other_modes"],
+                100.0 * s["mean_relative"].as_f64().unwrap()
+            );
+            assert!(report.contains(&row), "{row}\nnot in\n{report}");
+        }
+    }
     let full = json(&out.join("full").join("sweep.json"));
     for i in full["instabilities"].as_array().unwrap() {
         let line = format!("| {:.1} Hz |", i["frequency_hz_at_max"].as_f64().unwrap());

@@ -686,9 +686,68 @@ fn compare_reads_sweep_folders_and_measures_the_reduced_model() {
             }
         }
     }
+    // Every mode of the band paired by frequency: the reference against itself pairs every
+    // mode with itself at zero shift; the reduced model's pairs are modes of both sweeps,
+    // and its mean and largest shifts are those of its own pairs.
+    let spectrum = |folder: &Path, k: usize| -> Vec<f64> {
+        let sweep: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(folder.join("sweep.json")).unwrap()).unwrap();
+        sweep["points"][k]["eigenvalues"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|m| m["frequency_hz"].as_f64().unwrap())
+            .collect()
+    };
+    let spectra = json["spectra"].as_array().unwrap();
+    assert_eq!(spectra.len(), 4, "two models at two friction values");
+    for (n, s) in spectra.iter().enumerate() {
+        let k = n % 2;
+        let (reference, other) = (
+            spectrum(&full, k),
+            spectrum(if n < 2 { &full } else { &reduced }, k),
+        );
+        assert_eq!(s["friction"].as_f64(), Some([0.3, 0.6][k]), "{s}");
+        assert_eq!(s["reference_modes"].as_u64(), Some(reference.len() as u64));
+        assert_eq!(s["other_modes"].as_u64(), Some(other.len() as u64));
+        let pairs: Vec<(f64, f64)> = s["pairs"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|p| {
+                (
+                    p["reference_hz"].as_f64().unwrap(),
+                    p["other_hz"].as_f64().unwrap(),
+                )
+            })
+            .collect();
+        if n < 2 {
+            assert_eq!(pairs.len(), reference.len());
+            assert!(pairs.iter().all(|p| p.0 == p.1), "{s}");
+            assert_eq!(s["mean_relative"].as_f64(), Some(0.0));
+        } else {
+            assert!(!pairs.is_empty());
+            assert!(pairs
+                .iter()
+                .all(|p| reference.contains(&p.0) && other.contains(&p.1)));
+            let shifts: Vec<f64> = pairs.iter().map(|p| ((p.1 - p.0) / p.0).abs()).collect();
+            let mean = shifts.iter().sum::<f64>() / shifts.len() as f64;
+            assert!(
+                (s["mean_relative"].as_f64().unwrap() - mean).abs() < 1e-15,
+                "{s}"
+            );
+            let worst = &s["worst"];
+            let largest = shifts.iter().copied().fold(0.0, f64::max);
+            let w = (worst["other_hz"].as_f64().unwrap() - worst["reference_hz"].as_f64().unwrap())
+                / worst["reference_hz"].as_f64().unwrap();
+            assert_eq!(w.abs(), largest, "{s}");
+        }
+    }
     let md = std::fs::read_to_string(out.join("compare.md")).unwrap();
     assert!(
-        md.contains("eqs. 12-14") && md.contains("contact states agreeing"),
+        md.contains("eqs. 12-14")
+            && md.contains("contact states agreeing")
+            && md.contains("Every mode of the band"),
         "{md}"
     );
     let svgs = std::fs::read_dir(&out)

@@ -6,5 +6,6 @@ pub mod modes;
 pub mod operators;
 pub mod restraint;
 pub mod rigid;
+pub mod spectrum_match;
 pub mod statics;
 pub mod tracking;

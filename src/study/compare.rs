@@ -18,6 +18,7 @@
 //! MAC on the pad surface nodes both models share, at the reference's mu of largest real
 //! part, from the folders' contact.json) is taken; without shapes, the nearest in frequency.
 
+use crate::analysis::spectrum_match::{match_spectra, SpectrumMatch};
 use crate::study::report::write_atomically;
 use std::path::{Path, PathBuf};
 
@@ -257,6 +258,19 @@ pub struct Comparison {
     /// Contact states and pressures, per model and shared friction value (where both sweeps
     /// wrote contact.json).
     pub statics: Vec<StaticComparison>,
+    /// Every mode of the band, per model and shared friction value, paired by frequency
+    /// with the reference's ([`match_spectra`]): how far the whole spectrum moved, stable
+    /// modes included (at mu = 0 the interface's stiffness alone).
+    pub spectra: Vec<SpectrumComparison>,
+}
+
+/// One model's spectrum against the reference's at one friction value.
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+pub struct SpectrumComparison {
+    pub model: String,
+    pub friction: f64,
+    #[serde(flatten)]
+    pub spectrum: SpectrumMatch,
 }
 
 fn read_contact(dir: &Path, mu: f64) -> Option<crate::study::sweep::ContactMap> {
@@ -644,6 +658,7 @@ pub fn compare(reference: &Path, others: &[PathBuf]) -> Result<Comparison, Compa
     let mut instabilities = Vec::new();
     let mut extra = Vec::new();
     let mut statics = Vec::new();
+    let mut spectra = Vec::new();
     for dir in others {
         let o = Sweep::read(dir)?;
         let name = dir.display().to_string();
@@ -667,8 +682,15 @@ pub fn compare(reference: &Path, others: &[PathBuf]) -> Result<Comparison, Compa
                 other: dir.clone(),
             });
         }
-        for &(k, _) in &shared {
+        for &(k, j) in &shared {
             statics.extend(compare_statics(reference, dir, r.points[k].friction));
+            let frequencies =
+                |p: &Point| -> Vec<f64> { p.eigenvalues.iter().map(|m| m.frequency_hz).collect() };
+            spectra.push(SpectrumComparison {
+                model: name.clone(),
+                friction: r.points[k].friction,
+                spectrum: match_spectra(&frequencies(&r.points[k]), &frequencies(&o.points[j])),
+            });
         }
         let matches = match_instabilities(reference, &r, dir, &o);
         let mut used = vec![false; o.instabilities.len()];
@@ -768,6 +790,7 @@ pub fn compare(reference: &Path, others: &[PathBuf]) -> Result<Comparison, Compa
         instabilities,
         extra,
         statics,
+        spectra,
     })
 }
 
@@ -886,6 +909,36 @@ impl Comparison {
                     100.0 * c.state_agreement,
                     l2.join(", "),
                     nodal.join(", ")
+                ));
+            }
+        }
+        if !self.spectra.is_empty() {
+            s.push_str(
+                "\n## Every mode of the band, paired by frequency\n\n\
+                 Stable modes included; paired by nearest frequency (no shapes), so a mode \
+                 shifted past its neighbours is paired with one of them. At mu = 0 this is \
+                 the contact interface's stiffness alone.\n\n\
+                 | model | mu | modes (reference / model) | mean shift | largest shift |\n\
+                 |---|---|---|---|---|\n",
+            );
+            for c in &self.spectra {
+                let m = &c.spectrum;
+                let worst = m.worst.map_or("-".to_string(), |w| {
+                    format!(
+                        "{:+.2} % ({:.1} Hz for {:.1} Hz)",
+                        100.0 * w.relative(),
+                        w.other_hz,
+                        w.reference_hz
+                    )
+                });
+                s.push_str(&format!(
+                    "| `{}` | {:.2} | {} / {} | {:.2} % | {} |\n",
+                    c.model,
+                    c.friction,
+                    m.reference_modes,
+                    m.other_modes,
+                    100.0 * m.mean_relative,
+                    worst
                 ));
             }
         }

@@ -8,6 +8,7 @@
 
 use super::stage::{Stage, Work};
 use super::Outcome;
+use crate::study::compare::SpectrumComparison;
 use crate::study::config::Study;
 use crate::study::report::write_file;
 use crate::study::StudyError;
@@ -364,6 +365,52 @@ impl Report {
                         "min",
                         "max",
                         "real part max",
+                    ]
+                    .map(String::from)
+                    .to_vec(),
+                    rows,
+                });
+            }
+            let spectra: Vec<SpectrumComparison> =
+                serde_json::from_value(c["spectra"].clone()).unwrap_or_default();
+            if !spectra.is_empty() {
+                blocks.push(Block::Paragraph(
+                    "Every mode of the band, stable ones included, paired with the reference's \
+                     by frequency in ascending order (a mode that one model has alone stays \
+                     unpaired): how far the whole spectrum moved. With mu = 0 among the friction \
+                     values, that row is the contact interface's stiffness alone."
+                        .into(),
+                ));
+                let rows = spectra
+                    .iter()
+                    .map(|c| {
+                        let m = &c.spectrum;
+                        let folder = Path::new(&c.model)
+                            .file_name()
+                            .map_or(c.model.clone(), |n| n.to_string_lossy().into_owned());
+                        vec![
+                            format!("`{folder}`"),
+                            format!("{:.2}", c.friction),
+                            format!("{} / {}", m.reference_modes, m.other_modes),
+                            format!("{:.2} %", 100.0 * m.mean_relative),
+                            m.worst.map_or("-".into(), |w| {
+                                format!(
+                                    "{:+.2} % ({:.1} Hz for {:.1} Hz)",
+                                    100.0 * w.relative(),
+                                    w.other_hz,
+                                    w.reference_hz
+                                )
+                            }),
+                        ]
+                    })
+                    .collect();
+                blocks.push(Block::Table {
+                    header: [
+                        "model",
+                        "mu",
+                        "modes (reference / model)",
+                        "mean shift",
+                        "largest shift",
                     ]
                     .map(String::from)
                     .to_vec(),
