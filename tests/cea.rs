@@ -139,7 +139,13 @@ fn blocks_band(rt: &Runtime, expected: Option<usize>) -> Result<(Vec<f64>, usize
     let comm = rt.world();
     let blocks = 80;
     let kk = |b: usize| (2.0 * PI * (50.0 + 12.5 * b as f64)).powi(2);
-    let cc = |b: usize| if b % 3 == 0 { 0.0 } else { 0.01 * kk(b) };
+    let cc = |b: usize| {
+        if b.is_multiple_of(3) {
+            0.0
+        } else {
+            0.01 * kk(b)
+        }
+    };
     let mut entries = Vec::new();
     for b in 0..blocks {
         let (i, j) = (2 * b, 2 * b + 1);

@@ -165,6 +165,15 @@ fn check_shapes(se: &SuperElement) -> Result<(), String> {
     Ok(())
 }
 
+/// Whether `path` starts with a super-element file's magic (what an output may replace).
+pub fn is_superelement_file(path: &Path) -> bool {
+    use std::io::Read;
+    let mut head = [0u8; 8];
+    std::fs::File::open(path)
+        .and_then(|mut f| f.read_exact(&mut head))
+        .is_ok_and(|()| head == MAGIC)
+}
+
 /// Writes `se` to `path` atomically (whole or not at all).
 pub fn write(path: &Path, se: &SuperElement) -> Result<(), SuperElementFileError> {
     let inconsistent = |what: String| SuperElementFileError::Inconsistent {
@@ -372,7 +381,8 @@ mod tests {
             1.0 / 3.0,
             -2.5e11,
         ];
-        let value = |k: usize| awkward[k % awkward.len()] * if k % 11 == 0 { -1.0 } else { 1.0 };
+        let value =
+            |k: usize| awkward[k % awkward.len()] * if k.is_multiple_of(11) { -1.0 } else { 1.0 };
         let pair = |k: usize| BoundaryPair {
             pair: format!("left pad {k}"),
             pad_position: [0.1, 0.2 + k as f64, 1.0 / 3.0],

@@ -2,8 +2,9 @@
 //! program (Matrix Market, CalculiX MATRIXSTORAGE, Abaqus *MATRIX GENERATE), and the CEA
 //! report shared with the brake study.
 
+use super::ownership::Producer;
 use super::report::{collective, create_dir, json_for, write_file};
-use super::staging::staged;
+use super::staging::{staged, Claim};
 use super::StudyError;
 use crate::analysis::cea::{self, CeaOptions, ComplexMode};
 use crate::analysis::operators::matrix_from_entries;
@@ -105,7 +106,15 @@ pub fn run(rt: &Runtime, args: &CeaArgs) -> Result<(), StudyError> {
     if let Some((flag, Some(why))) = flags.into_iter().find(|(_, why)| why.is_some()) {
         return Err(StudyError::BadFlag { flag, why }.collective());
     }
-    let summary = staged(comm, &args.output, |dir| solve_and_write(comm, args, dir))?;
+    let claim = Claim::new(
+        Producer::Cea,
+        [args.stiffness.clone(), args.mass.clone()]
+            .into_iter()
+            .chain(args.damping.clone()),
+    );
+    let summary = staged(comm, &args.output, &claim, |dir| {
+        solve_and_write(comm, args, dir)
+    })?;
     if let Some(line) = summary {
         println!("{line}; results in {}", args.output.display());
     }

@@ -1086,7 +1086,11 @@ pub fn run(
     // Into `<output>.partial`, put in place when every file is written: a comparison that
     // fails half-way (a figure that cannot be drawn, a full disk) leaves the previous one
     // whole, not a new compare.json beside old figures.
-    crate::study::staging::staged(comm, output, |dir| {
+    let claim = crate::study::staging::Claim::new(
+        crate::study::ownership::Producer::Compare,
+        std::iter::once(reference.to_path_buf()).chain(others.iter().cloned()),
+    );
+    crate::study::staging::staged(comm, output, &claim, |dir| {
         if comm.rank() == 0 {
             comparison.write(dir)?;
         }
@@ -1352,7 +1356,7 @@ mod tests {
             pair: "p".into(),
             node: i,
             position: [i as f64, 0.0, 0.0],
-            area: if i % 2 == 0 { 1.0 } else { 2.0 },
+            area: if i.is_multiple_of(2) { 1.0 } else { 2.0 },
             pressure,
         };
         let uniform: Vec<_> = (0..12).map(|i| node(i, 3.0)).collect();

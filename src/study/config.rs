@@ -369,6 +369,19 @@ pub fn is_deck(path: &Path) -> bool {
 }
 
 impl Study {
+    /// The files a run of this study reads: its mesh (or deck) and the study file itself
+    /// (`file`, when it names a file): what its outputs must never be.
+    pub fn input_files(&self, file: Option<&std::path::Path>) -> Vec<std::path::PathBuf> {
+        self.mesh
+            .file
+            .iter()
+            .cloned()
+            .chain(
+                file.filter(|f| f.is_file())
+                    .map(std::path::Path::to_path_buf),
+            )
+            .collect()
+    }
     /// The study of a deck run as written (`squeal sweep deck.inp`): the deck as the mesh
     /// file (with its supports, loads and contact pairs), every other key at its default.
     pub fn of_deck(path: &Path) -> Study {

@@ -11,6 +11,7 @@ pub mod error;
 pub mod info;
 pub mod interrupt;
 pub mod modes;
+pub mod ownership;
 pub mod pipeline;
 pub mod plot;
 pub mod progress;

@@ -1,8 +1,9 @@
 //! `squeal modes`: real modes of a mesh file or of the built-in brake, as a table, JSON,
 //! CSV and a VTU file with every mode shape.
 
+use super::ownership::Producer;
 use super::report::{collective, create_dir, json_for, write_file};
-use super::staging::staged;
+use super::staging::{staged, Claim};
 use super::StudyError;
 use crate::analysis::modes::{real_modes, ModeBand, ModesOptions, RealMode};
 use crate::analysis::restraint;
@@ -99,7 +100,10 @@ pub fn run(rt: &Runtime, args: &ModesArgs) -> Result<(), StudyError> {
     if let Some((flag, Some(why))) = flags.into_iter().find(|(_, why)| why.is_some()) {
         return Err(StudyError::BadFlag { flag, why }.collective());
     }
-    let summary = staged(comm, &args.output, |dir| solve_and_write(rt, args, dir))?;
+    let claim = Claim::new(Producer::Modes, args.mesh.clone());
+    let summary = staged(comm, &args.output, &claim, |dir| {
+        solve_and_write(rt, args, dir)
+    })?;
     if let Some(line) = summary {
         println!("{line}; results in {}", args.output.display());
     }

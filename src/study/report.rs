@@ -99,6 +99,35 @@ pub fn check_output_file(comm: crate::petsc::Comm, path: &Path) -> Result<(), St
     })
 }
 
+/// A kind of file in words and how to recognise one.
+pub type FileKind<'a> = (&'a str, fn(&Path) -> bool);
+
+/// Refuses, on every rank alike, an output file that is an input of the run (or a folder
+/// holding one), or that exists and is not what `is_kind` recognises (`kind` in words): an
+/// output replaces only a file of its own kind, never what the run reads. Collective.
+pub fn check_output_file_owner(
+    comm: crate::petsc::Comm,
+    path: &Path,
+    inputs: &[std::path::PathBuf],
+    kind: Option<FileKind>,
+) -> Result<(), StudyError> {
+    on_root(comm, || {
+        let in_the_way = |why: String| StudyError::OutputInTheWay {
+            path: path.to_path_buf(),
+            why,
+        };
+        if let Some(why) = super::ownership::input_problem(path, inputs) {
+            return Err(in_the_way(why));
+        }
+        match kind {
+            Some((kind, is_kind)) if path.is_file() && !is_kind(path) => Err(in_the_way(format!(
+                "it exists and is not {kind}, which is all this command replaces"
+            ))),
+            _ => Ok(()),
+        }
+    })
+}
+
 /// An error and its causes, "what: why: why that", each cause once.
 fn chain(e: &StudyError) -> String {
     let mut text = e.to_string();

@@ -4,9 +4,12 @@
 //! was: a previous run's results stay whole, and new points are never mixed with them (a
 //! rerun with another band once left an old `sweep.json` and old plots beside new points).
 //!
-//! The output path is checked before anything is computed: a file in the way or a folder
-//! that cannot be written is refused at once, not after the first friction value.
+//! The output path is checked before anything is computed: a file in the way, a folder
+//! that cannot be written, another command's results, an input of the run or an output
+//! another run is writing now is refused at once, not after the first friction value
+//! ([`super::ownership`]).
 
+use super::ownership::{self, OutputLock, Producer};
 use super::report::collective;
 use super::StudyError;
 use crate::petsc::Comm;
@@ -19,7 +22,8 @@ fn written_by_squeal(name: &str, is_dir: bool) -> bool {
     if is_dir {
         return name.starts_with("mu_") || name.starts_with("step-");
     }
-    const FILES: [&str; 14] = [
+    const FILES: [&str; 15] = [
+        ownership::MARKER,
         "run.json",
         "static.json",
         "static.vtu",
@@ -38,36 +42,61 @@ fn written_by_squeal(name: &str, is_dir: bool) -> bool {
     FILES.contains(&name) || name.ends_with(".svg") || name.ends_with(".png")
 }
 
-/// A run's folder in the making. Rank 0 owns the files; every rank holds the paths.
+/// A run's folder in the making. Rank 0 owns the files and the output's lock; every rank
+/// holds the paths.
 pub struct Staging {
     output: PathBuf,
     partial: PathBuf,
+    _lock: Option<OutputLock>,
+}
+
+/// Who writes an output and what it reads: what [`ownership`] checks the output against.
+#[derive(Clone, Debug)]
+pub struct Claim {
+    pub producer: Producer,
+    /// The run's input files and folders (a study file, a mesh, matrices, sweeps compared).
+    pub inputs: Vec<PathBuf>,
+}
+
+impl Claim {
+    pub fn new(producer: Producer, inputs: impl IntoIterator<Item = PathBuf>) -> Claim {
+        Claim {
+            producer,
+            inputs: inputs.into_iter().collect(),
+        }
+    }
 }
 
 /// `<output>.partial`, beside the output (the same file system, so a rename moves it).
 pub fn partial_path(output: &Path) -> PathBuf {
+    beside(output, ".partial")
+}
+
+/// `<output><suffix>`, beside the output.
+pub fn beside(output: &Path, suffix: &str) -> PathBuf {
     let mut name = output
         .file_name()
         .map(|n| n.to_os_string())
         .unwrap_or_else(|| "squeal-out".into());
-    name.push(".partial");
+    name.push(suffix);
     output.with_file_name(name)
 }
 
 impl Staging {
     /// Checks the output path and makes an empty `<output>.partial` (an unfinished run's
     /// folder there is removed). Collective; errors are collective.
-    pub fn begin(comm: Comm, output: &Path) -> Result<Staging, StudyError> {
+    pub fn begin(comm: Comm, output: &Path, claim: &Claim) -> Result<Staging, StudyError> {
         let partial = partial_path(output);
         let local = if comm.rank() == 0 {
-            prepare(output, &partial)
+            prepare(output, &partial, claim).map(Some)
         } else {
-            Ok(())
+            Ok(None)
         };
-        collective(comm, local)?;
+        let lock = collective(comm, local)?;
         Ok(Staging {
             output: output.to_path_buf(),
             partial,
+            _lock: lock,
         })
     }
 
@@ -123,9 +152,10 @@ impl Staging {
 pub fn staged<T>(
     comm: Comm,
     output: &Path,
+    claim: &Claim,
     work: impl FnOnce(&Path) -> Result<T, StudyError>,
 ) -> Result<T, StudyError> {
-    let staging = Staging::begin(comm, output)?;
+    let staging = Staging::begin(comm, output, claim)?;
     match collective(comm, work(staging.path())) {
         Ok(value) => {
             let published = staging.publish(comm);
@@ -139,14 +169,23 @@ pub fn staged<T>(
     }
 }
 
-/// Rank 0's checks: the output is absent, an empty folder or a squeal result folder; the
-/// staging folder can be made.
-fn prepare(output: &Path, partial: &Path) -> Result<(), StudyError> {
+/// Rank 0's checks: the output is absent, an empty folder or a result folder of the same
+/// command, and no input of the run; the output's lock is free (taken, and returned); the
+/// staging folder can be made (with the command's marker in it).
+fn prepare(output: &Path, partial: &Path, claim: &Claim) -> Result<OutputLock, StudyError> {
     let not_results = |why: &str| StudyError::OutputInTheWay {
         path: output.to_path_buf(),
         why: why.to_string(),
     };
     if let Some(why) = file_among_ancestors(output) {
+        return Err(not_results(&why));
+    }
+    if let Some(why) = ownership::input_problem(output, &claim.inputs) {
+        return Err(not_results(&why));
+    }
+    // Before the staging folder is touched: it may be another live run's.
+    let lock = OutputLock::take(output)?;
+    if let Some(why) = ownership::replace_problem(output, claim.producer) {
         return Err(not_results(&why));
     }
     match std::fs::metadata(output) {
@@ -173,7 +212,9 @@ fn prepare(output: &Path, partial: &Path) -> Result<(), StudyError> {
         tracing::info!("removing {}, left by an unfinished run", partial.display());
         std::fs::remove_dir_all(partial).map_err(|source| StudyError::write(partial, source))?;
     }
-    std::fs::create_dir_all(partial).map_err(|source| StudyError::create_dir(partial, source))
+    std::fs::create_dir_all(partial).map_err(|source| StudyError::create_dir(partial, source))?;
+    ownership::mark(partial, claim.producer)?;
+    Ok(lock)
 }
 
 /// Why no folder can be made at `path`'s parent: the nearest of its ancestors that exists is
@@ -213,12 +254,13 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let file = dir.path().join("file");
         std::fs::write(&file, b"x").unwrap();
-        let e = prepare(&file, &partial_path(&file)).unwrap_err();
+        let claim = Claim::new(Producer::Sweep, []);
+        let e = prepare(&file, &partial_path(&file), &claim).unwrap_err();
         assert!(e.to_string().contains("is a file"), "{e}");
         let foreign = dir.path().join("thesis");
         std::fs::create_dir(&foreign).unwrap();
         std::fs::write(foreign.join("chapter1.tex"), b"x").unwrap();
-        let e = prepare(&foreign, &partial_path(&foreign)).unwrap_err();
+        let e = prepare(&foreign, &partial_path(&foreign), &claim).unwrap_err();
         assert!(
             e.to_string().contains("it holds a file 'chapter1.tex'"),
             "{e}"
@@ -230,12 +272,27 @@ mod tests {
         let stale = partial_path(&old);
         std::fs::create_dir(&stale).unwrap();
         std::fs::write(stale.join("leftover"), b"x").unwrap();
-        prepare(&old, &stale).unwrap();
-        assert!(stale.is_dir() && std::fs::read_dir(&stale).unwrap().next().is_none());
-        prepare(
-            &dir.path().join("new"),
-            &partial_path(&dir.path().join("new")),
-        )
-        .unwrap();
+        let lock = prepare(&old, &stale, &claim).unwrap();
+        let left: Vec<_> = std::fs::read_dir(&stale)
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
+        assert!(stale.is_dir() && left == [ownership::MARKER], "{left:?}");
+        // Its lock is held until the run ends: a second run is refused, the partial kept.
+        let e = prepare(&old, &stale, &claim).unwrap_err().to_string();
+        assert!(e.contains("another squeal run"), "{e}");
+        assert!(stale.join(ownership::MARKER).is_file());
+        drop(lock);
+        let new = dir.path().join("new");
+        drop(prepare(&new, &partial_path(&new), &claim).unwrap());
+        // Another command's results, an input of the run: refused.
+        let e = prepare(&old, &stale, &Claim::new(Producer::Compare, []))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("`squeal sweep`"), "{e}");
+        let e = prepare(&old, &stale, &Claim::new(Producer::Sweep, [old.clone()]))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("input of this run"), "{e}");
     }
 }

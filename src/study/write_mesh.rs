@@ -29,6 +29,11 @@ pub fn run(
     let vtu: PathBuf = msh.with_extension("vtu");
     // Rank 0 writes: it checks the paths before anything is read or built, and tells all.
     on_root(comm, || output_problem(&msh, &vtu))?;
+    // Converting a mesh onto itself would rewrite what it reads.
+    let inputs: Vec<PathBuf> = mesh.map(Path::to_path_buf).into_iter().collect();
+    for path in [&msh, &vtu] {
+        super::report::check_output_file_owner(comm, path, &inputs, None)?;
+    }
     let model = load_model(rt, mesh, preset, &[], &[])?;
     on_root(comm, || write(&model, &msh, &vtu))
 }

@@ -343,7 +343,7 @@ impl Reader {
             });
             return Ok(());
         }
-        if f.is_empty() || f.len() % 3 != 0 {
+        if f.is_empty() || !f.len().is_multiple_of(3) {
             return Err(self.err(
                 loc,
                 format!(

@@ -106,6 +106,8 @@ pub fn run_command(
         }
     }));
     if let Some(path) = write_study {
+        let inputs = study.input_files(file);
+        crate::study::report::check_output_file_owner(comm, path, &inputs, None)?;
         return sweep::write_study_file(comm, &study, path);
     }
     let mesh_hash = match &study.mesh.file {
@@ -118,9 +120,14 @@ pub fn run_command(
     };
     let stages = stage::plan(&study, &mesh_hash);
     let out = study.output.clone();
-    crate::study::report::on_root(comm, || {
-        std::fs::create_dir_all(&out).map_err(|e| StudyError::create_dir(&out, e))
-    })?;
+    let inputs = study.input_files(file);
+    // Held by rank 0 to the end: one study at a time writes this folder.
+    let local = if comm.rank() == 0 {
+        claim_study_folder(&out, &inputs).map(Some)
+    } else {
+        Ok(None)
+    };
+    let _lock = collective(comm, local)?;
     let started = Instant::now();
     let mut outcomes = Vec::new();
     for (k, stage) in stages.iter().enumerate() {
@@ -145,6 +152,38 @@ pub fn run_command(
         );
         Ok(())
     })
+}
+
+/// Rank 0: the study's folder is no input, no other command's result folder and no other
+/// run's now ([`crate::study::ownership`]); made, with its lock taken.
+fn claim_study_folder(
+    out: &Path,
+    inputs: &[std::path::PathBuf],
+) -> Result<crate::study::ownership::OutputLock, StudyError> {
+    use crate::study::ownership;
+    let in_the_way = |why: String| StudyError::OutputInTheWay {
+        path: out.to_path_buf(),
+        why,
+    };
+    if let Some(why) = crate::study::staging::file_among_ancestors(out) {
+        return Err(in_the_way(why));
+    }
+    if let Some(why) = ownership::input_problem(out, inputs) {
+        return Err(in_the_way(why));
+    }
+    let lock = ownership::OutputLock::take(out)?;
+    match ownership::producer_of(out) {
+        Err(why) => return Err(in_the_way(why)),
+        Ok(Some(p)) => {
+            return Err(in_the_way(format!(
+                "it holds the results of `{}`, and a study writes a folder of stages",
+                p.command()
+            )))
+        }
+        Ok(None) => {}
+    }
+    std::fs::create_dir_all(out).map_err(|e| StudyError::create_dir(out, e))?;
+    Ok(lock)
 }
 
 /// One stage: reused when its record holds its key and its result is there, else run (its

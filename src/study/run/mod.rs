@@ -27,8 +27,9 @@
 mod eigen_step;
 mod static_step;
 
+use super::ownership::Producer;
 use super::report::{collective, json_for, write_file};
-use super::staging::staged;
+use super::staging::{staged, Claim};
 use super::StudyError;
 use crate::contact::SlipHistory;
 use crate::fem::element::MassRule;
@@ -145,7 +146,8 @@ pub fn run(rt: &Runtime, args: &RunArgs) -> Result<(), StudyError> {
             tracing::warn!("{w}");
         }
     }
-    let steps = staged(comm, &args.output, |dir| {
+    let claim = Claim::new(Producer::Run, [args.deck.clone()]);
+    let steps = staged(comm, &args.output, &claim, |dir| {
         let steps = run_steps(comm, args, &deck, dir)?;
         let mut peak = [crate::study::bench::peak_rss_mib()];
         comm.sum_in_place(&mut peak);

@@ -23,8 +23,9 @@ pub use superelement::{SuperElementModel, SuperElementSettings};
 
 use super::config::{ReductionSpec, Study};
 use super::interrupt;
+use super::ownership::Producer;
 use super::report::{collective, write_file};
-use super::staging::staged;
+use super::staging::{staged, Claim};
 use super::StudyError;
 use crate::analysis::cea::ComplexMode;
 use crate::analysis::tracking::{self, Instability, SweepPoint, TrackingOptions};
@@ -148,6 +149,8 @@ pub struct SweepPlan {
     pub output: PathBuf,
     /// Where finished points are kept for a resumed or extended sweep (`squeal study`).
     pub cache: Option<point_cache::PointCache>,
+    /// The files the sweep reads (the study file, the mesh): never its output.
+    pub inputs: Vec<PathBuf>,
 }
 
 /// What a finished sweep found (rank 0; empty on other ranks).
@@ -314,6 +317,8 @@ pub fn run_command(
     let comm = rt.world();
     let (study, name) = study_from_args(comm, file, args)?;
     if let Some(path) = write_study {
+        let inputs = study.input_files(file);
+        super::report::check_output_file_owner(comm, path, &inputs, None)?;
         return write_study_file(comm, &study, path);
     }
     run(rt, &study, &name, None).map(|_| ())
@@ -343,6 +348,16 @@ pub fn superelement_command(
     args.superelements.strategy = Some(args.superelements.strategy.unwrap_or(Strategy::Single));
     let (study, name) = study_from_args(comm, file, args)?;
     super::report::check_output_file(comm, output)?;
+    let inputs = study.input_files(file);
+    super::report::check_output_file_owner(
+        comm,
+        output,
+        &inputs,
+        Some((
+            "a squeal super-element file",
+            crate::reduce::superelement_file::is_superelement_file,
+        )),
+    )?;
     let started = Instant::now();
     let mut model = SuperElementModel::from_study(comm, &study, &name)?;
     let mu = model.settings().friction;
@@ -385,6 +400,7 @@ pub fn run(
         unstable_threshold: study.analysis.unstable_threshold,
         output: study.output.clone(),
         cache,
+        inputs: study.input_files(Some(Path::new(file))),
     };
     if study
         .reduction
@@ -411,7 +427,8 @@ pub fn sweep<'rt>(
     plan: &SweepPlan,
 ) -> Result<SweepSummary, StudyError> {
     let started = Instant::now();
-    let summary = staged(comm, &plan.output, |dir| {
+    let claim = Claim::new(Producer::Sweep, plan.inputs.clone());
+    let summary = staged(comm, &plan.output, &claim, |dir| {
         let staged = SweepPlan {
             output: dir.to_path_buf(),
             ..plan.clone()
