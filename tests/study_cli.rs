@@ -70,8 +70,11 @@ fn json(path: &Path) -> Value {
 fn running(stdout: &str) -> Vec<String> {
     stdout
         .lines()
-        .filter(|l| l.starts_with('[') && l.contains(": running"))
-        .map(|l| l.split(": running").next().unwrap().to_string())
+        .filter(|l| {
+            l.starts_with('[')
+                && (l.contains(": running") || l.contains(": its cached result is not used"))
+        })
+        .map(|l| l.split(": ").next().unwrap().to_string())
         .collect()
 }
 
@@ -95,6 +98,18 @@ fn all_eigenvalues(out: &Path) -> Vec<f64> {
         }
     }
     v
+}
+
+/// Eigenvalues recomputed from the same state: equal to the round-off of the solves (a
+/// rerun's MUMPS ordering may differ), far below any physical difference.
+fn same_numbers(a: &[f64], b: &[f64]) {
+    assert_eq!(a.len(), b.len());
+    for (x, y) in a.iter().zip(b) {
+        assert!(
+            (x - y).abs() <= 1e-9 * x.abs().max(1.0),
+            "recomputed {y} against {x}"
+        );
+    }
 }
 
 #[test]
@@ -174,6 +189,52 @@ fn a_study_runs_its_stages_reports_them_and_reruns_only_what_changed() {
     assert!(running(&again).is_empty(), "{again}");
     assert_eq!(cached(&again), 5, "{again}");
 
+    // A cached result is reused only if it holds what was computed (issue 30, class 2).
+    // An eigenvalue edited in place (same length), and a cached point's file deleted: the
+    // stage runs again, says why, and recomputes from that point on.
+    let full_sweep = out.join("full").join("sweep.json");
+    let before = all_eigenvalues(&out);
+    let text = std::fs::read_to_string(&full_sweep).unwrap();
+    let at = text.find("\"frequency_hz\": ").unwrap() + "\"frequency_hz\": ".len();
+    let digit = text.as_bytes()[at];
+    let other = if digit == b'1' { '2' } else { '1' };
+    let mut edited = text.clone();
+    edited.replace_range(at..at + 1, &other.to_string());
+    std::fs::write(&full_sweep, &edited).unwrap();
+    let first_point = std::fs::read_dir(out.join("points").join("full"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .find(|p| json(&p.join("point.json"))["mu"].as_f64() == Some(0.3))
+        .unwrap();
+    std::fs::remove_file(first_point.join("files").join("cea.json")).unwrap();
+    let (tampered, log) = success_with_log(&["study", f, "-o", o]);
+    assert_eq!(running(&tampered).len(), 1, "{tampered}");
+    assert!(
+        tampered.contains("its cached result is not used (sweep.json changed since it was made)"),
+        "{tampered}"
+    );
+    assert!(log.contains("is not used: cea.json is missing"), "{log}");
+    assert_eq!(
+        points(&log),
+        (0, 2),
+        "the first point recomputed, and the second after it (a sweep resumes from its \
+         leading finished points only: each starts from the one before): {log}"
+    );
+    same_numbers(&before, &all_eigenvalues(&out));
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(
+        report.contains("(recomputed: the cached result was not used, sweep.json changed"),
+        "{report}"
+    );
+    // Truncated (it once failed every rerun with a bare JSON error).
+    let reduced_sweep = out.join("reduced-22").join("sweep.json");
+    let bytes = std::fs::read(&reduced_sweep).unwrap();
+    std::fs::write(&reduced_sweep, &bytes[..bytes.len() / 2]).unwrap();
+    let truncated = success(&["study", f, "-o", o]);
+    assert_eq!(running(&truncated).len(), 1, "{truncated}");
+    assert!(truncated.contains("sweep.json has"), "{truncated}");
+    same_numbers(&before, &all_eigenvalues(&out));
+
     // mu_SE changed: the super-element and its comparison only.
     write_study(&dir, 0.3);
     let changed = success(&["study", f, "-o", o]);
@@ -238,14 +299,7 @@ fn a_study_runs_its_stages_reports_them_and_reruns_only_what_changed() {
         (kept, 2 * unfinished_sweeps.len() - kept),
         "{log}"
     );
-    let (a, b) = (all_eigenvalues(&out), all_eigenvalues(&resumed));
-    assert_eq!(a.len(), b.len());
-    for (x, y) in a.iter().zip(&b) {
-        assert!(
-            (x - y).abs() <= 1e-9 * x.abs().max(1.0),
-            "resumed {y} against {x}"
-        );
-    }
+    same_numbers(&all_eigenvalues(&out), &all_eigenvalues(&resumed));
 
     // One friction value more: each sweep computes it alone and reuses the two it has.
     let text = std::fs::read_to_string(&file).unwrap();

@@ -10,6 +10,7 @@ pub mod config;
 pub mod error;
 pub mod info;
 pub mod interrupt;
+pub mod manifest;
 pub mod modes;
 pub mod ownership;
 pub mod pipeline;

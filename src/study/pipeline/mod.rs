@@ -17,7 +17,7 @@
 //! finished point, and a sweep rerun with more friction values computes only the new ones.
 
 mod inputs;
-mod record;
+pub mod record;
 pub mod report;
 pub mod stage;
 
@@ -68,14 +68,31 @@ pub const POINTS: &str = "points";
 pub enum Outcome {
     /// Its recorded result was reused (the run that made it took this long).
     Cached { seconds: f64 },
-    /// Computed now, in this many seconds.
-    Computed { seconds: f64 },
+    /// Computed now, in this many seconds; `rejected_cache`: why a cached result of the
+    /// same key was not used (rank 0).
+    Computed {
+        seconds: f64,
+        rejected_cache: Option<String>,
+    },
 }
 
 impl Outcome {
+    /// What the report says after the stage's time: cached, or why a cached result was
+    /// not used.
+    pub fn note(&self) -> String {
+        match self {
+            Outcome::Cached { .. } => " (cached)".into(),
+            Outcome::Computed {
+                rejected_cache: Some(why),
+                ..
+            } => format!(" (recomputed: the cached result was not used, {why})"),
+            Outcome::Computed { .. } => String::new(),
+        }
+    }
+
     pub fn seconds(&self) -> f64 {
         match self {
-            Outcome::Cached { seconds } | Outcome::Computed { seconds } => *seconds,
+            Outcome::Cached { seconds } | Outcome::Computed { seconds, .. } => *seconds,
         }
     }
 }
@@ -199,14 +216,13 @@ fn run_stage(
     let comm = rt.world();
     let folder = out.join(&stage.name);
     let mut cached = vec![0.0, 0.0];
+    let mut rejected = None;
     if comm.rank() == 0 {
         if let Some(r) = StageRecord::read(out, &stage.name) {
-            let result = match stage.work {
-                Work::Sweep(_) => "sweep.json",
-                Work::Compare(_) => "compare.json",
-            };
-            if r.key == stage.key && folder.join(result).is_file() {
-                cached = vec![1.0, r.seconds];
+            match r.reusable(&stage.name, &stage.key, &folder) {
+                Some(Ok(())) => cached = vec![1.0, r.seconds],
+                Some(Err(why)) => rejected = Some(why),
+                None => {}
             }
         }
     }
@@ -221,7 +237,13 @@ fn run_stage(
         return Ok(Outcome::Cached { seconds: cached[1] });
     }
     if comm.rank() == 0 {
-        println!("{head}: running (key {})", stage.key);
+        match &rejected {
+            Some(why) => println!(
+                "{head}: its cached result is not used ({why}); running again (key {})",
+                stage.key
+            ),
+            None => println!("{head}: running (key {})", stage.key),
+        }
     }
     crate::study::report::on_root(comm, || StageRecord::remove(out, &stage.name))?;
     let t = Instant::now();
@@ -236,9 +258,14 @@ fn run_stage(
         }
     }
     let seconds = t.elapsed().as_secs_f64();
-    crate::study::report::on_root(comm, || StageRecord::new(stage, seconds).write(out))?;
+    crate::study::report::on_root(comm, || {
+        StageRecord::new(stage, seconds, &folder)?.write(out)
+    })?;
     if comm.rank() == 0 {
         println!("{head}: done in {seconds:.1} s");
     }
-    Ok(Outcome::Computed { seconds })
+    Ok(Outcome::Computed {
+        seconds,
+        rejected_cache: rejected,
+    })
 }

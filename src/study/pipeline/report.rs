@@ -163,15 +163,7 @@ impl Report {
                     .map_or(0, Vec::len)
                     .to_string(),
                 format!("{per_mu:.1} s{dense}"),
-                format!(
-                    "{:.1} s{}",
-                    outcome.seconds(),
-                    if matches!(outcome, Outcome::Cached { .. }) {
-                        " (cached)"
-                    } else {
-                        ""
-                    }
-                ),
+                format!("{:.1} s{}", outcome.seconds(), outcome.note()),
                 format!("{memory:.0} MiB"),
             ]);
         }

@@ -473,8 +473,10 @@ fn resume<'rt>(
         (|| -> Result<(), StudyError> {
             let mut last = None;
             for (step, key) in keys.iter().enumerate() {
-                let Some(point) = cache.load(key) else { break };
                 let mu = plan.friction[step];
+                let Some(point) = cache.load(key, mu) else {
+                    break;
+                };
                 cache.publish(key, &plan.output.join(point_folder(mu)))?;
                 let (report, shapes, cp) = point.into_parts();
                 tracing::info!(

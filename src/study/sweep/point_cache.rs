@@ -10,14 +10,19 @@
 //! changed or inserted value recomputes from there on.
 //!
 //! Each entry is a folder `<key>/`: the point's files as the sweep wrote them (`files/`,
-//! hard links when the file system allows, copies otherwise) and `point.json` (the report,
+//! hard links when the file system allows, copies otherwise), `point.json` (the report,
 //! the eigenvalues to the bit, the tracked shapes and the [`ModelCheckpoint`] the next point
-//! starts from). An entry is made under a temporary name and renamed into place whole, so an
-//! entry that exists is complete; temporaries an interruption left are removed by the next
-//! [`PointCache::prune`].
+//! starts from) and `entry.json`, what the entry held when it was made: its key, its mu,
+//! and the length and hash of `point.json` and of every file ([`Manifest`]). An entry is
+//! used only when all of it checks out; an edited, truncated, exchanged or incomplete one
+//! is recomputed with a warning saying why (the published files are hard links to the
+//! entry's, so an edit of a result in place is an edit of the cache). An entry is made under
+//! a temporary name and renamed into place whole, so an entry that exists is complete;
+//! temporaries an interruption left are removed by the next [`PointCache::prune`].
 
 use super::{ModelCheckpoint, SweepPointReport};
-use crate::mesh::hash::text_hash;
+use crate::mesh::hash::{bytes_hash, text_hash};
+use crate::study::manifest::Manifest;
 use crate::study::StudyError;
 use num_complex::Complex64;
 use std::path::{Path, PathBuf};
@@ -79,7 +84,20 @@ impl CachedPoint {
     }
 }
 
+/// What an entry held when it was made (`entry.json`).
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+struct Entry {
+    key: String,
+    /// The friction value, to the bit.
+    mu: f64,
+    /// Length and hash of `point.json`.
+    point: (u64, String),
+    /// The files under `files/`.
+    files: Manifest,
+}
+
 const POINT: &str = "point.json";
+const ENTRY: &str = "entry.json";
 const FILES: &str = "files";
 const UNFINISHED: &str = ".unfinished-";
 
@@ -111,18 +129,50 @@ impl PointCache {
         ))
     }
 
-    /// The entry of `key`, if there is a whole one that reads back (rank 0).
-    pub fn load(&self, key: &str) -> Option<CachedPoint> {
-        let bytes = std::fs::read(self.dir.join(key).join(POINT)).ok()?;
-        match serde_json::from_slice(&bytes) {
+    /// The entry of `key` for friction value `mu`, if there is one that holds what it held
+    /// when it was made (rank 0). An entry that is there but fails its check is said on the
+    /// log, with why.
+    pub fn load(&self, key: &str, mu: f64) -> Option<CachedPoint> {
+        let dir = self.dir.join(key);
+        if !dir.exists() {
+            return None;
+        }
+        match self.checked(&dir, key, mu) {
             Ok(p) => Some(p),
-            Err(e) => {
+            Err(why) => {
                 tracing::warn!(
-                    "point cache entry {key} does not read ({e}); the point is recomputed"
+                    "point cache entry {key} (mu {mu}) is not used: {why}; the point is recomputed"
                 );
                 None
             }
         }
+    }
+
+    fn checked(&self, dir: &Path, key: &str, mu: f64) -> Result<CachedPoint, String> {
+        let entry: Entry = std::fs::read(dir.join(ENTRY))
+            .map_err(|e| format!("its {ENTRY} cannot be read ({e})"))
+            .and_then(|b| {
+                serde_json::from_slice(&b).map_err(|e| format!("its {ENTRY} does not read ({e})"))
+            })?;
+        if entry.key != key {
+            return Err(format!("it was made as entry {}", entry.key));
+        }
+        if entry.mu.to_bits() != mu.to_bits() {
+            return Err(format!("it was made at mu {}", entry.mu));
+        }
+        let bytes = std::fs::read(dir.join(POINT)).map_err(|e| format!("{POINT}: {e}"))?;
+        if (bytes.len() as u64, bytes_hash(&bytes)) != entry.point {
+            return Err(format!("{POINT} changed since it was made"));
+        }
+        if let Some(why) = entry.files.check(&dir.join(FILES)) {
+            return Err(why);
+        }
+        let point: CachedPoint =
+            serde_json::from_slice(&bytes).map_err(|e| format!("{POINT} does not read ({e})"))?;
+        if point.mu.to_bits() != mu.to_bits() {
+            return Err(format!("its {POINT} is mu {}", point.mu));
+        }
+        Ok(point)
     }
 
     /// Puts the files of entry `key` in `point_dir` (rank 0), as the sweep would have
@@ -149,6 +199,21 @@ impl PointCache {
             source,
         })?;
         crate::study::report::write_file(&temp.join(POINT), &json)?;
+        let files = Manifest::of(&temp.join(FILES)).map_err(|source| StudyError::Read {
+            path: temp.join(FILES),
+            source,
+        })?;
+        let entry = Entry {
+            key: key.to_string(),
+            mu: point.mu,
+            point: (json.len() as u64, bytes_hash(&json)),
+            files,
+        };
+        let entry_path = temp.join(ENTRY);
+        crate::study::report::write_file(
+            &entry_path,
+            &crate::study::report::json_for(&entry_path, &entry)?,
+        )?;
         remove_dir(&fin)?;
         std::fs::rename(&temp, &fin).map_err(|e| StudyError::Write {
             path: fin.clone(),
@@ -260,7 +325,7 @@ mod tests {
             superelement: None,
         };
         let key = cache.key(&[0.3]);
-        assert!(cache.load(&key).is_none());
+        assert!(cache.load(&key, 0.3).is_none());
         cache
             .store(
                 &key,
@@ -268,7 +333,7 @@ mod tests {
                 &CachedPoint::new(0.3, &report, &shape, checkpoint.clone()),
             )
             .unwrap();
-        let (back, shapes, cp) = cache.load(&key).unwrap().into_parts();
+        let (back, shapes, cp) = cache.load(&key, 0.3).unwrap().into_parts();
         assert_eq!(back.eigenvalues[0].lambda, lambda);
         assert_eq!(shapes, shape);
         let (a, b) = (cp.previous.unwrap(), checkpoint.previous.unwrap());
@@ -278,6 +343,31 @@ mod tests {
         let out = root.path().join("published");
         cache.publish(&key, &out).unwrap();
         assert_eq!(std::fs::read(out.join("cea.json")).unwrap(), b"{}");
+        // Asked for another mu, or damaged in any part: not used.
+        assert!(cache.load(&key, 0.6).is_none());
+        let entry = cache.dir().join(&key);
+        let damage = |path: &Path, bytes: &[u8]| {
+            let was = std::fs::read(path).unwrap();
+            std::fs::remove_file(path).unwrap();
+            std::fs::write(path, bytes).unwrap();
+            assert!(cache.load(&key, 0.3).is_none(), "{}", path.display());
+            std::fs::remove_file(path).unwrap();
+            std::fs::write(path, was).unwrap();
+            assert!(cache.load(&key, 0.3).is_some());
+        };
+        damage(&entry.join(FILES).join("cea.json"), b"[]");
+        let point = std::fs::read(entry.join(POINT)).unwrap();
+        let edited = String::from_utf8(point.clone())
+            .unwrap()
+            .replacen("1000.1", "1000.2", 1);
+        damage(&entry.join(POINT), edited.as_bytes());
+        damage(&entry.join(POINT), &point[..point.len() / 2]);
+        damage(&entry.join(ENTRY), b"{");
+        // Another point's entry put in its place.
+        let other = cache.key(&[0.6]);
+        std::fs::rename(&entry, cache.dir().join(&other)).unwrap();
+        assert!(cache.load(&other, 0.6).is_none());
+        std::fs::rename(cache.dir().join(&other), &entry).unwrap();
         // An unfinished entry (an interruption) and an entry of another plan go; the kept stays.
         std::fs::create_dir_all(cache.dir().join(format!("{UNFINISHED}abc"))).unwrap();
         std::fs::create_dir_all(cache.dir().join("0123456789abcdef")).unwrap();
