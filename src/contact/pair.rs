@@ -277,6 +277,7 @@ impl ContactPair {
         for point in &mut self.points {
             point.tangent = settings.sliding.tangent(point.position, point.normal);
         }
+        check_sliding(&settings, &self.points)?;
         self.settings = settings;
         Ok(())
     }
@@ -289,6 +290,25 @@ impl ContactPair {
         pair.settings.law = FrictionLaw::SteadySliding;
         pair
     }
+}
+
+/// Refuses a sliding direction that gives no point a tangent: along the contact normal
+/// everywhere (a fixed direction or a `*MOTION` along the normal). The pair then had no
+/// friction at all while its points were reported as slipping.
+fn check_sliding(settings: &PairSettings, points: &[ContactPoint]) -> Result<(), ContactError> {
+    let sliding = !matches!(settings.sliding, SlidingDirection::None);
+    if sliding && !points.is_empty() && points.iter().all(|p| p.tangent.is_none()) {
+        return Err(ContactError::Invalid {
+            pair: settings.name.clone(),
+            what: format!(
+                "its sliding direction {:?} is along the contact normal at every one of its {} \
+                 points: friction would act nowhere; give a direction in the contact plane",
+                settings.sliding,
+                points.len()
+            ),
+        });
+    }
+    Ok(())
 }
 
 /// Tolerance on a unit vector's length and on the sum of a point's weights: both come from
@@ -629,6 +649,7 @@ fn project_slave_nodes(
                 .collect(),
         });
     }
+    check_sliding(&settings, &points)?;
     Ok(ContactPair {
         settings,
         penalty,
@@ -694,6 +715,41 @@ mod tests {
             let t = p.tangent.unwrap();
             assert!(norm(sub(t, expect)) < 1e-15, "{t:?} vs {expect:?}");
         }
+    }
+
+    /// A sliding direction along the normal everywhere (the pad faces +z) gives no
+    /// friction anywhere: refused, built or set later (a `*MOTION`), naming the pair.
+    #[test]
+    fn a_sliding_direction_along_the_normal_is_refused() {
+        let mesh = pad_on_disc(0.0);
+        let build = |sliding| {
+            node_to_surface(
+                &mesh,
+                &mesh.surfaces["pad.z0"],
+                &mesh.surfaces["z1"],
+                settings(sliding),
+                &SearchOptions::default(),
+            )
+        };
+        let e = build(SlidingDirection::Fixed([0.0, 0.0, 2.0]))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("along the contact normal at every one of its 35 points"),
+            "{e}"
+        );
+        let mut pair = build(SlidingDirection::None).unwrap();
+        let e = pair
+            .set_sliding(SlidingDirection::Fixed([0.0, 0.0, -1.0]))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("friction would act nowhere"), "{e}");
+        // Tilted off the normal: a direction in the plane remains.
+        let tilted = build(SlidingDirection::Fixed([0.1, 0.0, 1.0])).unwrap();
+        assert!(tilted
+            .points
+            .iter()
+            .all(|p| p.tangent == Some([1.0, 0.0, 0.0])));
     }
 
     /// A node-based slave: the given nodes and areas, the same points as the face-based

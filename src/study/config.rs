@@ -643,6 +643,13 @@ impl Study {
             key,
             message,
         };
+        if self.output.as_os_str().is_empty() {
+            // Found before: after the whole sweep, when the results could not be put there.
+            return Err(bad(
+                "output".into(),
+                "is empty: give the folder the results go to".into(),
+            ));
+        }
         if self.mesh.file.is_some() && (self.mesh.preset.is_some() || self.mesh.brake.is_some()) {
             return Err(bad(
                 "mesh".into(),
@@ -704,6 +711,22 @@ impl Study {
             };
             positive("superelement_friction", r.superelement_friction, true)?;
             positive("cutoff_frequency_hz", r.cutoff_frequency_hz, false)?;
+            // Below the band, the super-element keeps no fixed-interface mode of it: the
+            // constraint modes alone, every mode of the band stiffened.
+            if let Some(c) = r
+                .cutoff_frequency_hz
+                .filter(|&c| c < self.analysis.max_frequency_hz)
+            {
+                return Err(bad(
+                    "reduction.cutoff_frequency_hz".into(),
+                    format!(
+                        "{c} Hz is below the band's top, analysis.max_frequency_hz = {} Hz: the \
+                         super-element's fixed-interface modes must reach past the band (the \
+                         default is twice its top)",
+                        self.analysis.max_frequency_hz
+                    ),
+                ));
+            }
             positive("k_linear", r.k_linear, false)?;
             positive("k_cubic", r.k_cubic, true)?;
             // `squeal study` sweeps the strategies of [comparison] with these settings.
@@ -1167,6 +1190,32 @@ mod tests {
         let p = write("rel.toml", "[mesh]\nfile = \"brake.msh\"\n");
         let s = Study::read(&p).unwrap();
         assert_eq!(s.mesh.file.unwrap(), p.parent().unwrap().join("brake.msh"));
+    }
+
+    #[test]
+    fn an_empty_output_and_a_superelement_cutoff_below_the_band_are_refused() {
+        let study = |cutoff: f64| {
+            format!(
+                "[analysis]\nmax_frequency_hz = 3000.0\n[reduction]\ncontact_nodes_per_pad = 6\n\
+                 superelements = \"single\"\ncutoff_frequency_hz = {cutoff}\n"
+            )
+        };
+        let e = Study::read(&write("empty.toml", "output = \"\"\n"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("output: is empty"), "{e}");
+        let p = write("cutoff.toml", &study(500.0));
+        let e = Study::read(&p).unwrap_err().to_string();
+        assert!(
+            e.contains("reduction.cutoff_frequency_hz")
+                && e.contains("500 Hz is below the band's top"),
+            "{e}"
+        );
+        // At the band's top: past this check (refused for want of a swept pair).
+        let e = Study::read(&write("at-the-top.toml", &study(3000.0)))
+            .unwrap_err()
+            .to_string();
+        assert!(!e.contains("cutoff") && e.contains("sweep = true"), "{e}");
     }
 
     #[test]
