@@ -101,6 +101,37 @@ fn nodes_in_no_element_and_decks_without_elements_name_the_file() {
 }
 
 /// `squeal modes` flags that cannot mean anything: each named, before any solve.
+/// A deck whose every element is inverted (mirrored: x -> -x): `squeal mesh` printed
+/// "volume NaN" and wrote it with exit status 0; refused naming the file and the element.
+#[test]
+fn an_inverted_deck_is_no_mesh_to_write() {
+    let deck = std::fs::read_to_string(data("beam_c3d10.inp")).unwrap();
+    let mut in_nodes = false;
+    let mirrored: Vec<String> = deck
+        .lines()
+        .map(|line| {
+            if line.starts_with('*') {
+                in_nodes = line.starts_with("*NODE");
+                return line.to_string();
+            }
+            if !in_nodes || !line.contains(',') {
+                return line.to_string();
+            }
+            let mut f: Vec<String> = line.split(',').map(|x| x.trim().to_string()).collect();
+            let x: f64 = f[1].parse().unwrap();
+            f[1] = format!("{}", -x);
+            f.join(", ")
+        })
+        .collect();
+    let dir = scratch("inverted");
+    let file = dir.join("mirrored.inp");
+    std::fs::write(&file, mirrored.join("\n")).unwrap();
+    let out = dir.join("mirrored.msh");
+    let e = refused(2, &["mesh", s(&file), "-o", s(&out)], &out);
+    assert_says(&e, &["mirrored.inp", "element 101:", "is not positive"]);
+    assert!(!dir.join("mirrored.vtu").exists());
+}
+
 #[test]
 fn modes_flags_out_of_range_are_refused_up_front() {
     let dir = scratch("modes-flags");

@@ -39,6 +39,8 @@ pub enum CompareError {
     Format { file: PathBuf, message: String },
     #[error("{}: shares no friction value with the reference {}", other.display(), reference.display())]
     NoCommonFriction { reference: PathBuf, other: PathBuf },
+    #[error("{} is given twice (as {}): a sweep compared with itself says nothing", folder.display(), again.display())]
+    Twice { folder: PathBuf, again: PathBuf },
     #[error("writing {}: {source}", file.display())]
     Write {
         file: PathBuf,
@@ -102,6 +104,9 @@ struct InstabilityRecord {
 struct ModelRecord {
     source: String,
     equations: usize,
+    /// Mesh and extra nodes (folders of every squeal that wrote equations have it).
+    #[serde(default)]
+    nodes: Option<usize>,
 }
 
 /// What compare reads of a sweep folder.
@@ -120,10 +125,44 @@ impl Sweep {
             file: file.clone(),
             source,
         })?;
-        serde_json::from_slice(&bytes).map_err(|e| CompareError::Format {
-            file,
+        let sweep: Sweep = serde_json::from_slice(&bytes).map_err(|e| CompareError::Format {
+            file: file.clone(),
             message: e.to_string(),
-        })
+        })?;
+        sweep
+            .check()
+            .map_err(|message| CompareError::Format { file, message })?;
+        Ok(sweep)
+    }
+
+    /// What no sweep squeal wrote holds: an equation count beyond three per node, a
+    /// negative or non-finite friction value, a non-finite eigenvalue. (An edited file was
+    /// compared without a word.)
+    fn check(&self) -> Result<(), String> {
+        let m = &self.model;
+        if m.equations == 0 || m.nodes.is_some_and(|n| m.equations > 3 * n) {
+            return Err(format!(
+                "model.equations = {} for {} nodes: at most three per node",
+                m.equations,
+                m.nodes.map_or("?".into(), |n| n.to_string())
+            ));
+        }
+        for p in &self.points {
+            if !(p.friction.is_finite() && p.friction >= 0.0) {
+                return Err(format!("a point's friction is {}", p.friction));
+            }
+            if let Some(e) = p
+                .eigenvalues
+                .iter()
+                .find(|e| !(e.frequency_hz.is_finite() && e.real_part.is_finite()))
+            {
+                return Err(format!(
+                    "at mu {} an eigenvalue is {} Hz, {} 1/s",
+                    p.friction, e.frequency_hz, e.real_part
+                ));
+            }
+        }
+        Ok(())
     }
 
     fn point_at(&self, mu: f64) -> Option<usize> {
@@ -262,6 +301,8 @@ pub struct Comparison {
     /// with the reference's ([`match_spectra`]): how far the whole spectrum moved, stable
     /// modes included (at mu = 0 the interface's stiffness alone).
     pub spectra: Vec<SpectrumComparison>,
+    /// What the comparison should be read with (models of other brakes).
+    pub warnings: Vec<String>,
 }
 
 /// One model's spectrum against the reference's at one friction value.
@@ -646,6 +687,21 @@ fn relative(a: f64, b: f64) -> f64 {
 
 /// Compares sweeps: the first folder is the reference.
 pub fn compare(reference: &Path, others: &[PathBuf]) -> Result<Comparison, CompareError> {
+    let all: Vec<&Path> = std::iter::once(reference)
+        .chain(others.iter().map(PathBuf::as_path))
+        .collect();
+    for (i, a) in all.iter().enumerate() {
+        let same = |b: &&&Path| match (a.canonicalize(), b.canonicalize()) {
+            (Ok(x), Ok(y)) => x == y,
+            _ => a == *b,
+        };
+        if let Some(b) = all[i + 1..].iter().find(same) {
+            return Err(CompareError::Twice {
+                folder: a.to_path_buf(),
+                again: b.to_path_buf(),
+            });
+        }
+    }
     let r = Sweep::read(reference)?;
     let mut models = vec![ModelEntry {
         folder: reference.display().to_string(),
@@ -785,13 +841,40 @@ pub fn compare(reference: &Path, others: &[PathBuf]) -> Result<Comparison, Compa
             }
         }
     }
+    let warnings = other_brakes(&models);
+    for w in &warnings {
+        tracing::warn!("{w}");
+    }
     Ok(Comparison {
         models,
         instabilities,
         extra,
         statics,
         spectra,
+        warnings,
     })
+}
+
+/// The models that are another brake than the reference's (their source, less what a
+/// reduction adds in parentheses, differs): allowed (two meshes of one brake are a mesh
+/// study), but said, where they were compared without a word.
+fn other_brakes(models: &[ModelEntry]) -> Vec<String> {
+    let brake = |source: &str| source.split(" (").next().unwrap_or(source).to_string();
+    let reference = brake(&models[0].source);
+    models[1..]
+        .iter()
+        .filter(|m| brake(&m.source) != reference)
+        .map(|m| {
+            format!(
+                "{} is a model of {}, the reference {} one of {}: the modes compared are \
+                 another brake's",
+                m.folder,
+                brake(&m.source),
+                models[0].folder,
+                reference
+            )
+        })
+        .collect()
 }
 
 /// The in-plane coordinates of points on a (flat) pad: the two axes along which they spread
@@ -850,6 +933,9 @@ impl Comparison {
                 m.instabilities,
                 time
             ));
+        }
+        for w in &self.warnings {
+            s.push_str(&format!("\n**Warning**: {w}.\n"));
         }
         s.push_str(
             "\n## Frequency errors per instability (eqs. 12-14; fractions shown as %)\n\n\
@@ -1380,10 +1466,90 @@ mod tests {
         assert!(patch_pressure_l2(&uniform, &oscillating, &[]).is_none());
     }
 
+    /// A folder given twice, an edited sweep.json (a negative friction, more equations
+    /// than three per node, a NaN eigenvalue), and another brake's model: refused naming
+    /// the file and what, or (another brake) said.
+    #[test]
+    fn inputs_no_sweep_holds_are_refused_and_another_brake_is_said() {
+        let root = tempfile::tempdir().unwrap();
+        let (r, o) = (root.path().join("ref"), root.path().join("other"));
+        write_sweep(&r, &[(1000.0, 1100.0), (1000.0, 1000.0)], 10.0);
+        write_sweep(&o, &[(1010.0, 1100.0), (990.0, 1020.0)], 12.0);
+        let e = compare(&r, std::slice::from_ref(&r))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("is given twice"), "{e}");
+        let spelt = root.path().join(".").join("other");
+        let e = compare(&r, &[o.clone(), spelt]).unwrap_err().to_string();
+        assert!(e.contains("is given twice"), "{e}");
+        let edit = |what: &str, with: &str| {
+            let file = o.join("sweep.json");
+            let text = std::fs::read_to_string(&file).unwrap();
+            assert!(text.contains(what), "{text}");
+            std::fs::write(&file, text.replacen(what, with, 1)).unwrap();
+            let e = compare(&r, std::slice::from_ref(&o))
+                .unwrap_err()
+                .to_string();
+            std::fs::write(&file, text).unwrap();
+            e
+        };
+        let e = edit("\"friction\":0.1", "\"friction\":-0.5");
+        assert!(
+            e.contains("other/sweep.json") && e.contains("friction is -0.5"),
+            "{e}"
+        );
+        let e = edit(
+            "\"equations\":10",
+            "\"equations\":1000000000000,\"nodes\":100",
+        );
+        assert!(e.contains("at most three per node"), "{e}");
+        let e = edit("\"frequency_hz\":1010.0", "\"frequency_hz\":1e999");
+        assert!(
+            e.contains("not a squeal sweep.json") || e.contains("Hz"),
+            "{e}"
+        );
+        // The same brake (what a reduction adds in parentheses aside): nothing to say;
+        // another brake: said.
+        let source = |dir: &Path, text: &str| {
+            let file = dir.join("sweep.json");
+            let doc = std::fs::read_to_string(&file).unwrap();
+            let before = format!(
+                "\"source\":{}",
+                serde_json::json!(dir.display().to_string())
+            );
+            assert!(doc.contains(&before), "{doc}");
+            std::fs::write(
+                &file,
+                doc.replace(&before, &format!("\"source\":{}", serde_json::json!(text))),
+            )
+            .unwrap();
+        };
+        source(&r, "built-in brake 'tiny'");
+        source(
+            &o,
+            "built-in brake 'tiny' (reduced interface: 22 nodes + 22 nodes)",
+        );
+        assert!(compare(&r, std::slice::from_ref(&o))
+            .unwrap()
+            .warnings
+            .is_empty());
+        let file = o.join("sweep.json");
+        let doc = std::fs::read_to_string(&file).unwrap();
+        std::fs::write(&file, doc.replace("'tiny'", "'small'")).unwrap();
+        let c = compare(&r, std::slice::from_ref(&o)).unwrap();
+        assert_eq!(c.warnings.len(), 1);
+        assert!(
+            c.warnings[0].contains("built-in brake 'small'"),
+            "{:?}",
+            c.warnings
+        );
+        assert!(c.markdown().contains("**Warning**"));
+    }
+
     #[test]
     fn a_folder_without_a_sweep_is_named() {
         let root = tempfile::tempdir().unwrap();
-        let e = compare(root.path(), &[root.path().to_path_buf()]).unwrap_err();
+        let e = compare(root.path(), &[root.path().join("other")]).unwrap_err();
         assert!(e.to_string().contains("sweep.json"), "{e}");
     }
 

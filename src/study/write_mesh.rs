@@ -35,7 +35,26 @@ pub fn run(
         super::report::check_output_file_owner(comm, path, &inputs, None)?;
     }
     let model = load_model(rt, mesh, preset, &[], &[])?;
-    on_root(comm, || write(&model, &msh, &vtu))
+    on_root(comm, || {
+        check_elements(&model.mesh, mesh.unwrap_or(Path::new(preset)))?;
+        write(&model, &msh, &vtu)
+    })
+}
+
+/// Refuses a mesh with an inverted, folded or degenerate element, naming the first: its
+/// volume was printed as NaN and the mesh written with exit status 0.
+fn check_elements(mesh: &Mesh, file: &Path) -> Result<(), StudyError> {
+    for (k, e) in mesh.elements.iter().enumerate() {
+        if let Err(why) = element::volume(&e.map(|n| mesh.nodes[n])) {
+            let label = mesh.element_labels.get(k).copied().unwrap_or(k as i64 + 1);
+            return Err(crate::mesh::MeshError::Invalid {
+                file: file.to_path_buf(),
+                message: format!("element {label}: {why}"),
+            }
+            .into());
+        }
+    }
+    Ok(())
 }
 
 /// The mesh files as rank 0 writes them, and the lines that say so.
