@@ -162,6 +162,53 @@ fn check_shapes(se: &SuperElement) -> Result<(), String> {
             se.header.modes
         ));
     }
+    check_values(&se.header)
+}
+
+/// The header's numbers as a build makes them: a file whose checksums were recomputed
+/// after an edit (a negative friction, a cut-off of -1 Hz, a sliding direction along the
+/// normal) was assembled without a word.
+fn check_values(h: &crate::reduce::superelement::SuperElementHeader) -> Result<(), String> {
+    let unit = |v: [f64; 3]| (crate::vector3::norm(v) - 1.0).abs() <= 1e-9;
+    if !(h.friction.is_finite() && h.friction >= 0.0) {
+        return Err(format!("its friction is {}", h.friction));
+    }
+    if !(h.cutoff_hz.is_finite() && h.cutoff_hz > 0.0) {
+        return Err(format!("its cut-off is {} Hz", h.cutoff_hz));
+    }
+    if h.units.trim().is_empty() || h.units.chars().any(char::is_control) {
+        return Err(format!("its units are {:?}", h.units));
+    }
+    for (k, b) in h.boundary.iter().enumerate() {
+        let bad = |what: String| Err(format!("boundary pair {k} ({}): {what}", b.pair));
+        if !unit(b.normal) {
+            return bad(format!("normal {:?} is not a unit vector", b.normal));
+        }
+        if let Some(t) = b.sliding {
+            if !unit(t) || crate::vector3::dot(t, b.normal).abs() > 1e-9 {
+                return bad(format!(
+                    "sliding direction {t:?} is not a unit vector in the contact plane"
+                ));
+            }
+        }
+        let positive = |x: f64| x.is_finite() && x > 0.0;
+        if !positive(b.area) || !positive(b.penalty) {
+            return bad(format!(
+                "area {} and penalty {} must be > 0",
+                b.area, b.penalty
+            ));
+        }
+        if !(b.initial_gap.is_finite() && b.normal_force.is_finite() && b.normal_force >= 0.0) {
+            return bad(format!(
+                "initial gap {} and normal force {} must be finite, the force >= 0",
+                b.initial_gap, b.normal_force
+            ));
+        }
+        let finite = |x: [f64; 3]| x.iter().all(|c| c.is_finite());
+        if !finite(b.pad_position) || !finite(b.disc_position) {
+            return bad("a position is not finite".into());
+        }
+    }
     Ok(())
 }
 
@@ -550,6 +597,40 @@ mod tests {
             matches!(err, SuperElementFileError::Corrupted { .. }),
             "{err}"
         );
+    }
+
+    /// A header edited and its checksum recomputed (the file then reads as whole): numbers
+    /// no build makes are refused on reading, naming the file and the number.
+    #[test]
+    fn an_edited_header_with_recomputed_checksums_is_refused() {
+        let (_dir, path, _) = written();
+        let bytes = std::fs::read(&path).unwrap();
+        let length = u64::from_le_bytes(bytes[12..20].try_into().unwrap()) as usize;
+        let json = String::from_utf8(bytes[20..20 + length].to_vec()).unwrap();
+        let edited = |from: &str, to: &str| {
+            assert!(json.contains(from), "{from} not in {json}");
+            let new = json.replacen(from, to, 1);
+            let mut out = bytes[..12].to_vec();
+            out.extend_from_slice(&(new.len() as u64).to_le_bytes());
+            out.extend_from_slice(new.as_bytes());
+            let mut sum = Fnv1a::new();
+            sum.update(&out);
+            out.extend_from_slice(&sum.0.to_le_bytes());
+            out.extend_from_slice(&bytes[20 + length + 8..]);
+            std::fs::write(&path, &out).unwrap();
+            read(&path, None).unwrap_err().to_string()
+        };
+        let friction = format!("\"friction\": {:?}", sample().header.friction);
+        let e = edited(&friction, "\"friction\": -0.5");
+        assert!(
+            e.contains("brake.se") && e.contains("friction is -0.5"),
+            "{e}"
+        );
+        let cutoff = format!("\"cutoff_hz\": {:?}", sample().header.cutoff_hz);
+        let e = edited(&cutoff, "\"cutoff_hz\": -1.0");
+        assert!(e.contains("cut-off is -1 Hz"), "{e}");
+        let e = edited("\"units\": \"SI\"", "\"units\": \"\"");
+        assert!(e.contains("units"), "{e}");
     }
 
     #[test]

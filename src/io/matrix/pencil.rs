@@ -40,6 +40,9 @@ impl MatrixSet {
     }
 }
 
+/// The largest |m_ij - m_ji| allowed, relative to the largest entry of M.
+const MASS_SYMMETRY: f64 = 1e-6;
+
 /// Why `mass` cannot be a mass matrix, or None. Equations are named 1-based, as in the
 /// files, with their node.dof when `names` has them.
 fn mass_problem(mass: &Triplets, names: Option<&NodeDofMap>) -> Option<String> {
@@ -77,6 +80,18 @@ fn mass_problem(mass: &Triplets, names: Option<&NodeDofMap>) -> Option<String> {
             massless.len(),
             mass.rows,
             name(e)
+        ));
+    }
+    // A mass matrix is symmetric (kinetic energy is a quadratic form). An export's
+    // printed digits break it by a few units of their last place, far below this; an
+    // unsymmetric M was solved without a word.
+    if let Some((i, j, a, b)) = mass.first_asymmetry(MASS_SYMMETRY) {
+        return Some(format!(
+            "the mass matrix is not symmetric: the entry coupling {} and {} is {a:e} one way \
+             and {b:e} the other (a mass matrix is symmetric; a stiffness or a damping \
+             matrix given as the mass?)",
+            name(i),
+            name(j)
         ));
     }
     if let Some(&(r, c, v)) = mass
@@ -118,6 +133,19 @@ mod tests {
         // A consistent bar element: [[2, 1], [1, 2]] / 6.
         let bar = [(0, 0, 2.0), (0, 1, 1.0), (1, 0, 1.0), (1, 1, 2.0)];
         assert_eq!(mass_problem(&triplets(2, &bar), None), None);
+    }
+
+    #[test]
+    fn an_unsymmetric_mass_is_named() {
+        let m = [(0, 0, 2.0), (0, 1, 1.0), (1, 0, 0.5), (1, 1, 2.0)];
+        let why = mass_problem(&triplets(2, &m), None).unwrap();
+        assert!(
+            why.contains("not symmetric") && why.contains("equation 1 and equation 2"),
+            "{why}"
+        );
+        // Print round-off (8 digits) is not asymmetry.
+        let m = [(0, 0, 2.0), (0, 1, 1.0), (1, 0, 1.0 + 1e-8), (1, 1, 2.0)];
+        assert_eq!(mass_problem(&triplets(2, &m), None), None);
     }
 
     #[test]
