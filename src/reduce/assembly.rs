@@ -581,6 +581,19 @@ pub fn dense_cea(
             options.max_frequency_hz
         )));
     }
+    // Say which matrix holds what no eigensolver can use, where faer said `NoConvergence`.
+    for (name, m) in [("stiffness", stiffness), ("mass", mass)] {
+        if let Some((i, j)) = (0..n)
+            .flat_map(|i| (0..n).map(move |j| (i, j)))
+            .find(|&(i, j)| !m[(i, j)].is_finite())
+        {
+            return Err(AssemblyError::Eigen(format!(
+                "the reduced {name} matrix holds {} at ({i}, {j}): a NaN or infinite value in \
+                 the super-element or the contact law's stiffnesses",
+                m[(i, j)]
+            )));
+        }
+    }
     let llt = mass
         .llt(Side::Lower)
         .map_err(|_| AssemblyError::MassNotPositiveDefinite)?;
@@ -591,9 +604,21 @@ pub fn dense_cea(
     let mut at = x.transpose().to_owned();
     l.solve_lower_triangular_in_place(at.as_mut());
     let a = at.transpose().to_owned();
-    let evd = a
-        .eigen()
-        .map_err(|e| AssemblyError::Eigen(format!("{e:?}")))?;
+    let evd = a.eigen().map_err(|e| {
+        let largest = (0..n)
+            .flat_map(|i| (0..n).map(move |j| (i, j)))
+            .map(|(i, j)| stiffness[(i, j)].abs())
+            .filter(|v| *v > 0.0)
+            .fold((f64::INFINITY, 0.0f64), |(lo, hi), v| {
+                (lo.min(v), hi.max(v))
+            });
+        AssemblyError::Eigen(format!(
+            "no convergence ({e:?}) on the reduced model of size {n}, whose stiffness entries \
+             span {:.3e} to {:.3e}: a contact stiffness (k_linear, k_cubic) far out of scale \
+             with the super-element's?",
+            largest.0, largest.1
+        ))
+    })?;
     let values = evd.S().column_vector();
     let vectors = evd.U();
     let kept: Vec<usize> = (0..n)
@@ -1125,5 +1150,15 @@ mod tests {
         let m = Mat::from_fn(2, 2, |i, j| [[1.0, 2.0], [2.0, 1.0]][i][j]);
         let e = dense_cea(m.as_ref(), m.as_ref(), &DenseCeaOptions::default()).unwrap_err();
         assert_eq!(e, AssemblyError::MassNotPositiveDefinite);
+        // A NaN in K: named with where it is, not faer's bare `NoConvergence`.
+        let k = Mat::from_fn(2, 2, |i, j| if (i, j) == (1, 0) { f64::NAN } else { 1.0 });
+        let m = Mat::<f64>::identity(2, 2);
+        let e = dense_cea(k.as_ref(), m.as_ref(), &DenseCeaOptions::default())
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("reduced stiffness matrix holds NaN at (1, 0)"),
+            "{e}"
+        );
     }
 }

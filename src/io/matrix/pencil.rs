@@ -36,9 +36,35 @@ impl MatrixSet {
                 format!("entry ({}, {}) is {v}: not a number", r + 1, c + 1),
             ));
         }
+        let largest = |t: &Triplets| t.entries.iter().fold(0.0f64, |m, e| m.max(e.2.abs()));
+        let (k, m) = (largest(&self.stiffness), largest(&self.mass));
+        let ratio = k / m;
+        if !(ratio > SCALE_RATIO.recip() && ratio < SCALE_RATIO) {
+            // A mass of 1e-300 reached LAPACK inside SLEPc and failed there on 2 ranks
+            // (`lascl`), with "no mode in the band" on 1.
+            // The file whose scale is the more extreme is the one to look at first.
+            let (file, this, other, what) = if k.log10().abs() > m.log10().abs() {
+                (stiffness, k, m, "mass")
+            } else {
+                (mass, m, k, "stiffness")
+            };
+            return Err(MatrixFileError::invalid(
+                file,
+                format!(
+                    "its entries reach {this:e} where the {what}'s reach {other:e}: omega^2 of \
+                     order {ratio:e}, out of any structure's range and of what the solvers \
+                     resolve; the two files' units do not go together"
+                ),
+            ));
+        }
         Ok(())
     }
 }
+
+/// The largest entries of K and M (omega^2's order, in consistent units) may be at most
+/// this far apart either way: 1e60 (rad/s)^2 is no structure's, and beyond it the solvers'
+/// scalings overflow.
+const SCALE_RATIO: f64 = 1e60;
 
 /// The largest |m_ij - m_ji| allowed, relative to the largest entry of M.
 const MASS_SYMMETRY: f64 = 1e-6;
@@ -133,6 +159,26 @@ mod tests {
         // A consistent bar element: [[2, 1], [1, 2]] / 6.
         let bar = [(0, 0, 2.0), (0, 1, 1.0), (1, 0, 1.0), (1, 1, 2.0)];
         assert_eq!(mass_problem(&triplets(2, &bar), None), None);
+    }
+
+    #[test]
+    fn masses_out_of_the_stiffness_scale_are_refused() {
+        let set = |mass: f64| MatrixSet {
+            format: super::super::MatrixFormat::MatrixMarket,
+            stiffness: triplets(2, &[(0, 0, 1e9), (1, 1, 1e9)]),
+            mass: triplets(2, &[(0, 0, mass), (1, 1, mass)]),
+            damping: None,
+            node_dofs: None,
+        };
+        let (k, m) = (Path::new("k.mtx"), Path::new("m.mtx"));
+        assert!(set(1e-3).check_pencil(k, m).is_ok());
+        for mass in [1e-300, 1e300] {
+            let e = set(mass).check_pencil(k, m).unwrap_err().to_string();
+            assert!(
+                e.contains("m.mtx: its entries reach") && e.contains("units"),
+                "{e}"
+            );
+        }
     }
 
     #[test]
