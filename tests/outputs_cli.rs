@@ -74,9 +74,9 @@ fn refused(args: &[&str], kept: &[&Path], words: &[&str]) -> String {
     stderr
 }
 
-/// A one-point sweep of the tiny brake into `out` (about a second).
-fn sweep(out: &Path) {
-    ok(&[
+/// The arguments of a one-point sweep of the tiny brake into `out` (about a second).
+fn tiny_sweep(out: &Path) -> [&str; 10] {
+    [
         "sweep",
         "--preset",
         "tiny",
@@ -87,7 +87,12 @@ fn sweep(out: &Path) {
         "-q",
         "-o",
         s(out),
-    ]);
+    ]
+}
+
+/// A one-point sweep of the tiny brake into `out`.
+fn sweep(out: &Path) {
+    ok(&tiny_sweep(out));
     assert!(out.join("sweep.json").is_file());
 }
 
@@ -117,17 +122,7 @@ fn compare_into_its_reference_is_refused_and_the_sweep_kept() {
     }
     // A sweep into the comparison's folder: another command's results.
     refused(
-        &[
-            "sweep",
-            "--preset",
-            "tiny",
-            "--friction",
-            "0.3",
-            "--fmax",
-            "4000",
-            "-o",
-            s(&cmp),
-        ],
+        &tiny_sweep(&cmp),
         &[&cmp, &full],
         &[
             "the results of `squeal compare`",
@@ -245,17 +240,7 @@ fn an_output_another_run_is_writing_is_refused() {
     let lock = squeal::study::ownership::OutputLock::take(&out).unwrap();
     let me = format!("pid {}", std::process::id());
     refused(
-        &[
-            "sweep",
-            "--preset",
-            "tiny",
-            "--friction",
-            "0.3",
-            "--fmax",
-            "4000",
-            "-o",
-            s(&out),
-        ],
+        &tiny_sweep(&out),
         &[&out],
         &["another squeal run", &me, "is writing it now"],
     );
