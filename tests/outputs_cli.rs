@@ -135,7 +135,7 @@ fn compare_into_its_reference_is_refused_and_the_sweep_kept() {
         &[&full],
         &[
             "the results of `squeal sweep`",
-            "a study writes a folder of stages",
+            "`squeal study` would replace",
         ],
     );
     let _ = std::fs::remove_dir_all(&dir);

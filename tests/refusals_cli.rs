@@ -438,3 +438,85 @@ fn flags_every_rank_refuses_are_said_once() {
         assert_says(&e, words);
     }
 }
+
+/// Requests that cannot be met, refused before any solve (issue 30, classes 4 and 5): a
+/// `*FREQUENCY` count of 1e8 once ran the eigensolver to its limit and then advised raising
+/// the tolerance; a deck whose pressure is zero once reported an "unstable" mode at 44,670 Hz
+/// on a 2e-9 N normal force; `--k-linear 1e-300` once ended in "dense eigensolver:
+/// NoConvergence" after the whole reduced-interface static.
+#[test]
+fn absurd_requests_are_refused_before_any_solve() {
+    let dir = scratch("absurd");
+    let out = dir.join("out");
+    let beam = std::fs::read_to_string(data("beam_c3d10.inp")).unwrap();
+    let at = beam.find("*FREQUENCY\n").unwrap() + "*FREQUENCY\n".len();
+    let end = at + beam[at..].find('\n').unwrap();
+    let huge = dir.join("huge.inp");
+    std::fs::write(&huge, format!("{}100000000{}", &beam[..at], &beam[end..])).unwrap();
+    let e = refused(2, &["run", s(&huge), "-o", s(&out)], &out);
+    assert_says(
+        &e,
+        &[
+            "huge.inp:",
+            "*FREQUENCY: 100000000 modes asked of a model with 1500 equations",
+            "ask for at most 1500",
+        ],
+    );
+
+    let deck = std::fs::read_to_string(data("pad_on_plate_friction.inp")).unwrap();
+    assert!(deck.contains("PADTOPFACES, P, 1e6"));
+    let unloaded = dir.join("unloaded.inp");
+    std::fs::write(
+        &unloaded,
+        deck.replace("PADTOPFACES, P, 1e6", "PADTOPFACES, P, 0"),
+    )
+    .unwrap();
+    std::fs::copy(
+        data("pad_on_plate_mesh.inp"),
+        dir.join("pad_on_plate_mesh.inp"),
+    )
+    .unwrap();
+    let e = refused(
+        2,
+        &["sweep", s(&unloaded), "--friction", "0.3", "-o", s(&out)],
+        &out,
+    );
+    assert_says(
+        &e,
+        &[
+            "unloaded.inp: nothing presses the swept contact pairs",
+            "18 pressure load(s) and 0 nodal force(s) are all zero",
+        ],
+    );
+
+    for k in ["1e-300", "1e300"] {
+        let e = refused(
+            2,
+            &[
+                "sweep",
+                "--preset",
+                "tiny-caliper",
+                "--contact-nodes-per-pad",
+                "10",
+                "--superelements",
+                "single",
+                "--k-linear",
+                k,
+                "--friction",
+                "0.3",
+                "-o",
+                s(&out),
+            ],
+            &out,
+        );
+        assert_says(
+            &e,
+            &[
+                "--k-linear (reduction.k_linear)",
+                &format!("k_l = {k} N/m"),
+                "outside the 1/eps = 4.5e15 ratio",
+            ],
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

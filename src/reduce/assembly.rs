@@ -264,6 +264,16 @@ impl<'se> Assembly<'se> {
             if !(k_linear > 0.0 && k_linear.is_finite()) {
                 return Err(invalid(format!("k_l = {k_linear} must be finite and > 0")));
             }
+            // Beyond 1/eps either way of the contact it stands for, double precision cannot
+            // weigh one against the other (see the sweep's up-front check).
+            let natural = pair.penalty * pair.area;
+            let ratio = k_linear / natural;
+            if natural > 0.0 && !(f64::EPSILON..=1.0 / f64::EPSILON).contains(&ratio) {
+                return Err(invalid(format!(
+                    "k_l = {k_linear:e} N/m is {ratio:.1e} times the contact's penalty x area \
+                     ({natural:.3e} N/m), beyond the 1/eps ratio double precision resolves"
+                )));
+            }
             let f = pair.normal_force;
             if !f.is_finite() || (pair.separation && f < 0.0) {
                 return Err(invalid(format!(

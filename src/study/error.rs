@@ -242,7 +242,7 @@ pub enum StudyError {
     /// More modes asked than the model has equations (`--nev`, or a deck's *FREQUENCY).
     #[error(
         "{flag}: {count} modes asked of a model with {equations} equations (free degrees of \
-         freedom): ask for at most {equations}, or give --fmax"
+         freedom): ask for at most {equations}, or give a maximum frequency instead"
     )]
     TooManyModes {
         flag: String,

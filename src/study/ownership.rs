@@ -32,6 +32,8 @@ pub enum Producer {
     Modes,
     Compare,
     Run,
+    /// `squeal study`: a folder of stages (each stage's folder is its own command's).
+    Study,
 }
 
 impl Producer {
@@ -43,6 +45,7 @@ impl Producer {
             Producer::Modes => "squeal modes",
             Producer::Compare => "squeal compare",
             Producer::Run => "squeal run",
+            Producer::Study => "squeal study",
         }
     }
 
@@ -55,15 +58,17 @@ impl Producer {
             Producer::Modes => "modes.json",
             Producer::Compare => "compare.json",
             Producer::Run => "run.json",
+            Producer::Study => "report.md",
         }
     }
 
-    const ALL: [Producer; 5] = [
+    const ALL: [Producer; 6] = [
         Producer::Sweep,
         Producer::Cea,
         Producer::Modes,
         Producer::Compare,
         Producer::Run,
+        Producer::Study,
     ];
 }
 
@@ -162,6 +167,46 @@ pub fn input_problem(output: &Path, inputs: &[PathBuf]) -> Option<String> {
     })
 }
 
+/// Who writes an output and what it reads: what the output is checked against.
+#[derive(Clone, Debug)]
+pub struct Claim {
+    pub producer: Producer,
+    /// The run's input files and folders (a study file, a mesh, matrices, sweeps compared).
+    pub inputs: Vec<PathBuf>,
+}
+
+impl Claim {
+    pub fn new(producer: Producer, inputs: impl IntoIterator<Item = PathBuf>) -> Claim {
+        Claim {
+            producer,
+            inputs: inputs.into_iter().collect(),
+        }
+    }
+}
+
+/// Rank 0's claim on an output folder, before anything is written: no file among its
+/// ancestors, no input of the run and no folder holding one, its lock free (taken and
+/// returned, held until dropped), and nothing in it another command wrote. Every command
+/// that writes a result folder, the study's included, claims it here.
+pub fn claim(output: &Path, claim: &Claim) -> Result<OutputLock, StudyError> {
+    let in_the_way = |why: String| StudyError::OutputInTheWay {
+        path: output.to_path_buf(),
+        why,
+    };
+    if let Some(why) = super::staging::file_among_ancestors(output) {
+        return Err(in_the_way(why));
+    }
+    if let Some(why) = input_problem(output, &claim.inputs) {
+        return Err(in_the_way(why));
+    }
+    // Before the folder is looked into: another live run may be writing it.
+    let lock = OutputLock::take(output)?;
+    if let Some(why) = replace_problem(output, claim.producer) {
+        return Err(in_the_way(why));
+    }
+    Ok(lock)
+}
+
 /// The lock of one output, held until dropped (then the lock file is removed).
 #[derive(Debug)]
 pub struct OutputLock {
@@ -210,6 +255,20 @@ impl OutputLock {
         if !same_file(&file, &path) {
             return Err(busy("one that just finished or started".into()));
         }
+        // A file of that name that is not a lock (empty: ours just made, or a killed run's
+        // "pid N") is a user's, and would be overwritten now and deleted at the end.
+        let text = std::fs::read_to_string(&path).unwrap_or_else(|_| "?".into());
+        if !is_lock_text(&text) {
+            let head: String = text.chars().take(40).collect();
+            return Err(StudyError::OutputInTheWay {
+                path: output.to_path_buf(),
+                why: format!(
+                    "{} is in the way: squeal keeps its lock there, and that file is not one \
+                     (it reads {head:?}); move it away",
+                    path.display()
+                ),
+            });
+        }
         let me = format!("pid {}", std::process::id());
         file.set_len(0)
             .and_then(|_| {
@@ -219,6 +278,14 @@ impl OutputLock {
             .map_err(|source| StudyError::write(&path, source))?;
         Ok(OutputLock { path, file })
     }
+}
+
+/// What a lock file holds: nothing (just made) or "pid N" (its holder's, or a killed one's).
+fn is_lock_text(text: &str) -> bool {
+    let t = text.trim();
+    t.is_empty()
+        || t.strip_prefix("pid ")
+            .is_some_and(|n| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()))
 }
 
 fn same_file(file: &File, path: &Path) -> bool {
@@ -320,5 +387,12 @@ mod tests {
         // A lock file a killed run left (unlocked): taken over.
         std::fs::write(lock_path(&out), b"pid 1").unwrap();
         drop(OutputLock::take(&out).unwrap());
+        assert!(!lock_path(&out).exists());
+        // A user's file of that name: refused, and left as it was.
+        std::fs::write(lock_path(&out), b"my notes\n").unwrap();
+        let e = OutputLock::take(&out).unwrap_err().to_string();
+        assert!(e.contains("is not one") && e.contains("my notes"), "{e}");
+        assert_eq!(std::fs::read(lock_path(&out)).unwrap(), b"my notes\n");
+        assert!(is_lock_text("pid 42\n") && is_lock_text("") && !is_lock_text("pid x"));
     }
 }

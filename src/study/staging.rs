@@ -9,7 +9,8 @@
 //! another run is writing now is refused at once, not after the first friction value
 //! ([`super::ownership`]).
 
-use super::ownership::{self, OutputLock, Producer};
+pub use super::ownership::Claim;
+use super::ownership::{self, OutputLock};
 use super::report::collective;
 use super::StudyError;
 use crate::petsc::Comm;
@@ -48,23 +49,6 @@ pub struct Staging {
     output: PathBuf,
     partial: PathBuf,
     _lock: Option<OutputLock>,
-}
-
-/// Who writes an output and what it reads: what [`ownership`] checks the output against.
-#[derive(Clone, Debug)]
-pub struct Claim {
-    pub producer: Producer,
-    /// The run's input files and folders (a study file, a mesh, matrices, sweeps compared).
-    pub inputs: Vec<PathBuf>,
-}
-
-impl Claim {
-    pub fn new(producer: Producer, inputs: impl IntoIterator<Item = PathBuf>) -> Claim {
-        Claim {
-            producer,
-            inputs: inputs.into_iter().collect(),
-        }
-    }
 }
 
 /// `<output>.partial`, beside the output (the same file system, so a rename moves it).
@@ -177,17 +161,7 @@ fn prepare(output: &Path, partial: &Path, claim: &Claim) -> Result<OutputLock, S
         path: output.to_path_buf(),
         why: why.to_string(),
     };
-    if let Some(why) = file_among_ancestors(output) {
-        return Err(not_results(&why));
-    }
-    if let Some(why) = ownership::input_problem(output, &claim.inputs) {
-        return Err(not_results(&why));
-    }
-    // Before the staging folder is touched: it may be another live run's.
-    let lock = OutputLock::take(output)?;
-    if let Some(why) = ownership::replace_problem(output, claim.producer) {
-        return Err(not_results(&why));
-    }
+    let lock = ownership::claim(output, claim)?;
     match std::fs::metadata(output) {
         Ok(m) if !m.is_dir() => return Err(not_results("it is a file, not a folder")),
         Ok(_) => {
@@ -236,6 +210,7 @@ pub(super) fn not_a_folder(dir: &Path) -> Option<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::study::ownership::Producer;
 
     #[test]
     fn partial_path_sits_beside_the_output() {

@@ -177,29 +177,10 @@ fn claim_study_folder(
     out: &Path,
     inputs: &[std::path::PathBuf],
 ) -> Result<crate::study::ownership::OutputLock, StudyError> {
-    use crate::study::ownership;
-    let in_the_way = |why: String| StudyError::OutputInTheWay {
-        path: out.to_path_buf(),
-        why,
-    };
-    if let Some(why) = crate::study::staging::file_among_ancestors(out) {
-        return Err(in_the_way(why));
-    }
-    if let Some(why) = ownership::input_problem(out, inputs) {
-        return Err(in_the_way(why));
-    }
-    let lock = ownership::OutputLock::take(out)?;
-    match ownership::producer_of(out) {
-        Err(why) => return Err(in_the_way(why)),
-        Ok(Some(p)) => {
-            return Err(in_the_way(format!(
-                "it holds the results of `{}`, and a study writes a folder of stages",
-                p.command()
-            )))
-        }
-        Ok(None) => {}
-    }
+    use crate::study::ownership::{self, Claim, Producer};
+    let lock = ownership::claim(out, &Claim::new(Producer::Study, inputs.iter().cloned()))?;
     std::fs::create_dir_all(out).map_err(|e| StudyError::create_dir(out, e))?;
+    ownership::mark(out, Producer::Study)?;
     Ok(lock)
 }
 

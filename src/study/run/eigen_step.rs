@@ -130,6 +130,7 @@ pub(super) fn frequency(
     out: &Path,
 ) -> Result<(Band, String), StudyError> {
     let mut ops = model::assemble(comm, model, mass_rule)?;
+    check_count(&ops, request.eigenvalues, "*FREQUENCY")?;
     let asked = Band {
         lower: request.lower_frequency,
         upper: request.upper_frequency.unwrap_or(0.0),
@@ -205,6 +206,7 @@ pub(super) fn complex_frequency(
     let count = request
         .eigenvalues
         .or_else(|| frequency_band.and_then(|b| b.count));
+    check_count(&ops, count, "*COMPLEX FREQUENCY")?;
     let upper = match request
         .upper_frequency
         .or_else(|| frequency_band.map(|b| b.upper).filter(|&f| f > 0.0))
@@ -226,6 +228,22 @@ pub(super) fn complex_frequency(
     let result = complex(comm, model, &ops, base, &states, &band, out);
     add_base_tangent(comm, &mut ops, &model.pairs, base, -1.0)?;
     result
+}
+
+/// A number of modes the model can have: at most its unknowns (the equations less those the
+/// constraints eliminate). Refused before any solve: a count of 1e8 once ran the eigensolver
+/// to its iteration limit and then advised raising the tolerance. Same on every rank.
+fn check_count(ops: &Operators<'_>, count: Option<usize>, keyword: &str) -> Result<(), StudyError> {
+    let equations = ops.solver_dofs().equations();
+    match count {
+        Some(count) if count > equations => Err(StudyError::TooManyModes {
+            flag: keyword.to_string(),
+            count,
+            equations,
+        }
+        .collective()),
+        _ => Ok(()),
+    }
 }
 
 /// The top of a band holding the `count` lowest modes (see [`COUNT_BAND_MARGIN`]): the real

@@ -88,6 +88,32 @@ impl SweptSurface {
     }
 }
 
+/// Why a friction sweep of `model` would measure nothing: its swept pairs exist but no load
+/// presses them (every pressure and nodal force is zero; supports hold at zero). The static
+/// is then zero up to the solver's round-off, and so is every normal force: a deck with a
+/// zero `*DSLOAD` once reported an "unstable" mode at 44,670 Hz with a 2e-9 N normal force,
+/// where a study file refuses a zero pressure.
+fn unloaded(model: &Model) -> Option<String> {
+    if !model.swept.iter().any(|&s| s) {
+        return None;
+    }
+    let pressed = model
+        .pressures
+        .iter()
+        .any(|p| p.value != 0.0 && !p.faces.is_empty());
+    let forced = model.forces.iter().any(|&(_, _, f)| f != 0.0);
+    (!pressed && !forced).then(|| {
+        format!(
+            "nothing presses the swept contact pairs: the model's {} pressure load(s) and {} \
+             nodal force(s) are all zero, so the sliding equilibrium and its normal forces are \
+             zero and friction acts on nothing; give the brake pressure (*DSLOAD, *DLOAD or \
+             *CLOAD)",
+            model.pressures.len(),
+            model.forces.len()
+        )
+    })
+}
+
 impl<'rt> FullModel<'rt> {
     /// Builds and assembles the model of a study (collective; errors name the study file
     /// and key).
@@ -110,6 +136,13 @@ impl<'rt> FullModel<'rt> {
                     }),
             });
         let (model, reduction) = collective(comm, local)?;
+        if let Some(why) = unloaded(&model) {
+            return Err(StudyError::DeckStep {
+                at: model.source.clone(),
+                why,
+            }
+            .collective());
+        }
         if comm.rank() == 0 {
             for w in &model.warnings {
                 tracing::warn!("{w}");

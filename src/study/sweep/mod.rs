@@ -528,6 +528,32 @@ fn resume<'rt>(
     Ok(resumed)
 }
 
+/// More points than this to compute gets a word before the first one: a list of 1,000
+/// friction values once started a run of hours without one.
+const MANY_POINTS: usize = 100;
+
+/// "about 2 h 05 min left (...)" from the warm points' times so far (the first point ramps
+/// the load from rest and is no guide), or `None` before the first warm point or at the end.
+fn time_left(warm_seconds: &[f64], points_left: usize) -> Option<String> {
+    if warm_seconds.is_empty() || points_left == 0 {
+        return None;
+    }
+    let mut t = warm_seconds.to_vec();
+    t.sort_by(f64::total_cmp);
+    let median = t[t.len() / 2];
+    let left = (median * points_left as f64).round() as u64;
+    let span = match left {
+        s if s < 60 => format!("{s} s"),
+        s if s < 3600 => format!("{} min {:02} s", s / 60, s % 60),
+        s => format!("{} h {:02} min", s / 3600, (s % 3600) / 60),
+    };
+    Some(format!(
+        "about {span} left ({points_left} friction value(s) at {median:.1} s, the median of \
+         the {} warm one(s) so far)",
+        t.len()
+    ))
+}
+
 /// The sweep written into `plan.output` (the staging folder of `published`).
 fn sweep_into<'rt>(
     comm: Comm<'rt>,
@@ -555,6 +581,14 @@ fn sweep_into<'rt>(
     for _ in 0..resumed {
         bar.step();
     }
+    if root && total - resumed > MANY_POINTS {
+        tracing::warn!(
+            "{} friction values to compute: one static and one CEA each, minutes apiece on a \
+             brake; the log says the time left after the first warm point",
+            total - resumed
+        );
+    }
+    let mut warm_seconds = Vec::new();
     for (step, &mu) in plan.friction.iter().enumerate().skip(resumed) {
         bar.message(format!("mu {mu:.3}"));
         let kept = if plan.cache.is_some() {
@@ -572,8 +606,14 @@ fn sweep_into<'rt>(
         ));
         let outcome = model.solve_point(comm, mu)?;
         let report = outcome.report;
+        if step > resumed {
+            warm_seconds.push(report.seconds);
+        }
         if root {
             tracing::info!("mu {mu:.2} ({}/{total}): {}", step + 1, report.log_line());
+            if let Some(left) = time_left(&warm_seconds, total - step - 1) {
+                tracing::info!("{left}");
+            }
             let dir = plan.output.join(point_folder(mu));
             output::write_point(&dir, model.mesh(), outcome.fields.as_ref(), &report, &info)?;
             if let Some(cache) = &plan.cache {
@@ -633,4 +673,19 @@ fn sweep_into<'rt>(
         points: reports,
         instabilities,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn time_left_is_the_median_warm_point_times_the_points_left() {
+        assert_eq!(super::time_left(&[], 5), None);
+        assert_eq!(super::time_left(&[3.0], 0), None);
+        let t = super::time_left(&[10.0, 1000.0, 20.0], 998).unwrap();
+        // Median 20 s (the outlier ignored) x 998 = 19,960 s = 5 h 32 min.
+        assert!(t.starts_with("about 5 h 32 min left (998 "), "{t}");
+        assert!(super::time_left(&[2.0], 3)
+            .unwrap()
+            .starts_with("about 6 s left"));
+    }
 }

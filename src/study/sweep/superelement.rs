@@ -22,6 +22,7 @@ use crate::analysis::statics::{self, Configuration, StaticSolution};
 use crate::contact::{self, PointState, SlipHistory, Status};
 use crate::mesh::hash;
 use crate::mesh::Mesh;
+use crate::model::Model;
 use crate::petsc::{Comm, DenseMatrix, Vector};
 use crate::reduce::assembly::{
     Assembly, CubicContact, DenseCeaOptions, DenseCeaResult, ReducedStatic, StaticOptions,
@@ -129,13 +130,16 @@ impl<'rt> SuperElementModel<'rt> {
             });
         }
         let base = FullModel::from_study(comm, study, file)?;
-        let swept = base
+        let swept: Vec<usize> = base
             .model
             .swept
             .iter()
             .enumerate()
             .filter_map(|(i, &s)| s.then_some(i))
             .collect();
+        if let Some(k_linear) = reduction.k_linear {
+            check_k_linear(&base.model, &swept, k_linear).map_err(StudyError::collective)?;
+        }
         let max_frequency_hz = study.analysis.max_frequency_hz;
         let settings = SuperElementSettings {
             strategy: reduction.superelements.unwrap_or(Strategy::PerFriction),
@@ -817,4 +821,43 @@ fn empty_report(mu: f64, seconds: f64, peak: f64, peak_sum: f64) -> SweepPointRe
         peak_rss_mib_all_ranks: peak_sum,
         superelement: None,
     }
+}
+
+/// Refuses a cubic law's k_l that double precision cannot weigh against the contact it
+/// replaces (each reduced contact's penalty x area, the default): more than 1/eps times it and
+/// the assembled stiffness keeps no digit of the structure's; less than eps times it and the
+/// contact is absent in floating point while the static approach f/k_l runs to eps^-1 times
+/// the penalty's (`--k-linear 1e-300` once ended in "dense eigensolver: NoConvergence" after
+/// the whole reduced-interface static). Checked before any work.
+fn check_k_linear(model: &Model, swept: &[usize], k_linear: f64) -> Result<(), StudyError> {
+    let bad = |why: String| StudyError::BadFlag {
+        flag: "--k-linear (reduction.k_linear)",
+        why,
+    };
+    if !(k_linear.is_finite() && k_linear > 0.0) {
+        return Err(bad(format!("must be finite and > 0, got {k_linear}")));
+    }
+    let defaults = swept
+        .iter()
+        .flat_map(|&i| {
+            let pair = &model.pairs[i];
+            pair.points.iter().map(move |p| pair.penalty * p.area)
+        })
+        .filter(|d| *d > 0.0);
+    let (lo, hi) = defaults.fold((f64::INFINITY, 0.0_f64), |(lo, hi), d| {
+        (lo.min(d), hi.max(d))
+    });
+    if hi == 0.0 {
+        return Ok(());
+    }
+    let eps = f64::EPSILON;
+    if k_linear < eps * hi || k_linear > lo / eps {
+        return Err(bad(format!(
+            "k_l = {k_linear:e} N/m against the reduced contacts' penalty x area of \
+             {lo:.3e} ... {hi:.3e} N/m: outside the 1/eps = {:.1e} ratio double precision \
+             resolves either way (leave it out for the penalty x area)",
+            1.0 / eps
+        )));
+    }
+    Ok(())
 }
