@@ -35,10 +35,16 @@ fn points(log: &str) -> (usize, usize) {
 
 /// The entries of a sweep stage's point cache.
 fn kept_points(out: &Path, stage: &str) -> usize {
+    // A kept point is a finished entry: one being stored sits in a ".unfinished-" folder
+    // until its entry.json (written last) and the rename make it whole; a crash there once
+    // counted it, and the resume then rightly recomputed it.
     std::fs::read_dir(out.join("points").join(stage))
         .map(|d| {
             d.flatten()
-                .filter(|e| e.path().join("point.json").is_file())
+                .filter(|e| {
+                    !e.file_name().to_string_lossy().starts_with(".unfinished-")
+                        && e.path().join("entry.json").is_file()
+                })
                 .count()
         })
         .unwrap_or(0)
