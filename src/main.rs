@@ -348,6 +348,11 @@ struct InterfaceFlags {
     /// reduction.area_weighting; Abaqus 6.10's mesh-size weighting).
     #[arg(long)]
     area_weighting: bool,
+    /// Whether each reduced contact carries its patch law: the full model's penalty over its
+    /// share of the pad face, tilt included (study key reduction.tilt; squeal's addition to
+    /// the paper's point contacts; not with super-elements yet).
+    #[arg(long)]
+    tilt: Option<bool>,
 }
 
 /// The contact law variant, as a command-line value.
@@ -403,15 +408,18 @@ fn reduction_flags(
         radius,
         disc_coupling,
         area_weighting,
+        tilt,
     } = flags.clone();
     use squeal::reduce::{DiscCoupling, RadiusChoice, Weighting};
     if count.is_none() && spacing.is_none() {
-        if disc_coupling.is_some() || area_weighting {
+        if disc_coupling.is_some() || area_weighting || tilt.is_some() {
             return Err(study::StudyError::BadFlag {
                 flag: if disc_coupling.is_some() {
                     "--disc-coupling"
-                } else {
+                } else if area_weighting {
                     "--area-weighting"
+                } else {
+                    "--tilt"
                 },
                 why: "sets up a reduced interface: give --contact-nodes-per-pad or --spacing \
                       too (or reduction.disc_coupling and reduction.area_weighting in the \
@@ -449,6 +457,9 @@ fn reduction_flags(
         Some(DiscCouplingArg::Distributing) => DiscCoupling::Distributing,
     };
     spec.area_weighting = area_weighting;
+    if let Some(tilt) = tilt {
+        spec.tilt = tilt;
+    }
     Ok(Some(spec))
 }
 

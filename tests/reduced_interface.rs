@@ -41,6 +41,12 @@ const CHECKS: &[Check] = &[
         agreement: 1e-8,
     },
     Check {
+        name: "patch_laws_carry_the_load_and_come_closer_to_the_full_model",
+        run: patch_laws,
+        ranks: &[1, 2],
+        agreement: 1e-8,
+    },
+    Check {
         name: "tie_springs_converge_as_their_stiffness_grows",
         run: tie_springs,
         ranks: &[2],
@@ -329,4 +335,58 @@ fn disc_couplings_agree(rt: &Runtime) -> Result<Vec<f64>, String> {
     let mut out: Vec<f64> = dist.modes.iter().map(|m| m.0).collect();
     out.extend([between, mean_between]);
     Ok(out)
+}
+
+/// Patch laws (`reduction.tilt`): each reduced contact carries the full model's penalty over
+/// its share of the pad face, tilt included. The pads still carry the whole load (the
+/// quadrature areas add up to the shares', so a uniform approach gives k A delta as before)
+/// with mu N of friction at most; and what the law adds is stiffness the full model has: at
+/// mu = 0 the modes come closer to the full model's than the point contacts' do.
+fn patch_laws(rt: &Runtime) -> Result<Vec<f64>, String> {
+    let tilted = |model: &Model| -> Result<Model, String> {
+        let settings = InterfaceSettings {
+            size: GridSize::Count(22),
+            tilt: true,
+            ..Default::default()
+        };
+        Ok(reduce_interface(model, &settings).map_err(e)?.model)
+    };
+    let mu = 0.5;
+    let model = tilted(&tiny(mu))?;
+    let solved = solve(rt, &model, 6000.0)?;
+    let mut normal = 0.0;
+    for pair in &model.pairs {
+        let s = contact::summarize(pair, &[], &solved.displacement).map_err(e)?;
+        normal += s.normal_force;
+        let f = s.friction_force.iter().map(|c| c * c).sum::<f64>().sqrt();
+        if f > mu * s.normal_force * (1.0 + 1e-12) {
+            return Err(format!("friction {f} > mu N = {}", mu * s.normal_force));
+        }
+    }
+    let applied = model.applied_load();
+    if (normal - applied).abs() > 1e-8 * applied {
+        return Err(format!("normal force {normal} vs applied load {applied}"));
+    }
+    let full_model = tiny(0.0);
+    let full = solve(rt, &full_model, 6000.0)?;
+    let point = solve(rt, &reduced(&full_model, 22, 1.0)?, 6000.0)?;
+    let patch = solve(rt, &tilted(&full_model)?, 6000.0)?;
+    let (d_point, d_patch) = (
+        mean_distance(&full.modes, &point.modes),
+        mean_distance(&full.modes, &patch.modes),
+    );
+    if rt.world().rank() == 0 {
+        eprintln!("mu 0, 22 per pad: mean frequency distance {d_point:.4e} point contacts, {d_patch:.4e} patch laws");
+    }
+    if d_patch >= d_point {
+        return Err(format!(
+            "patch laws {d_patch:e} not closer than point contacts {d_point:e}"
+        ));
+    }
+    Ok(solved
+        .modes
+        .iter()
+        .chain(&patch.modes)
+        .map(|m| m.0)
+        .collect())
 }

@@ -279,6 +279,8 @@ pub struct PointTangent {
     /// The block the point adds at its first node (zero when open): a slipping point's
     /// moves with its slip direction and trial force, by less and less as Newton converges.
     pub block: [[f64; 3]; 3],
+    /// The point has a tilt law (rank 2 more when it opens or closes).
+    pub tilt: bool,
 }
 
 /// A slipping point whose block moved by at most this fraction (Frobenius norm) counts as
@@ -295,10 +297,13 @@ impl PointTangent {
     /// 3 for a Coulomb point changing state, 2 for one that keeps slipping (its tangential
     /// block moves with the slip direction) unless its block has settled ([`SETTLED_SLIP`]).
     pub fn rank_of_change(&self, before: &PointTangent) -> usize {
+        let tilt = if self.tilt { 2 } else { 0 };
         match (self.coulomb, self.status == before.status) {
+            // A patch law's block moves as its quadrature points open and close.
+            (false, true) if self.tilt && self.block != before.block => 3,
             (false, true) => 0,
-            (false, false) => 1,
-            (true, false) => 3,
+            (false, false) => 1 + tilt,
+            (true, false) => 3 + tilt,
             (true, true) if self.status != Status::Slip => 0,
             (true, true) => {
                 let squared = |b: &[[f64; 3]; 3]| b.iter().flatten().map(|v| v * v).sum::<f64>();
@@ -356,6 +361,7 @@ pub fn add_contact_tangent<'rt>(
                     status: state.status,
                     coulomb: pair.stick_stiffness().is_some(),
                     block: [[0.0; 3]; 3],
+                    tilt: point.tilt.is_some(),
                 };
                 if let Some(mut c) = contribution {
                     let width = 3 * c.nodes.len();
@@ -774,6 +780,7 @@ mod tests {
             coulomb: true,
             block: [0, 1, 2]
                 .map(|i| [0, 1, 2].map(|j| 1e9 * law.normal[i] * law.normal[j] - t.jacobian[i][j])),
+            tilt: false,
         }
     }
 

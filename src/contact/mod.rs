@@ -27,7 +27,7 @@ pub mod variant;
 pub use coulomb::{SlipHistory, Status};
 pub use pair::{
     node_to_node, node_to_surface, nodes_to_surface, tributary_areas, ContactPair, ContactPoint,
-    FrictionLaw, MasterFace, PairSettings, SlidingDirection,
+    FrictionLaw, MasterFace, PairSettings, SlidingDirection, Tilt,
 };
 pub use penalty::{
     evaluate, point_state, summarize, summarize_states, PairSummary, PointContribution, PointState,
@@ -86,7 +86,14 @@ pub fn contact_groups(pairs: &[pair::ContactPair]) -> Vec<Vec<usize>> {
     pairs
         .iter()
         .flat_map(|p| p.points.iter())
-        .map(|pt| pt.slave.iter().chain(&pt.master).map(|&(n, _)| n).collect())
+        .map(|pt| {
+            pt.slave
+                .iter()
+                .chain(&pt.master)
+                .map(|&(n, _)| n)
+                .chain(pt.tilt.as_ref().map(|t| t.node))
+                .collect()
+        })
         .collect()
 }
 

@@ -243,6 +243,78 @@ pub struct ContactPoint {
     pub slave_node: usize,
     /// The master face and parametric point (node-to-surface only).
     pub master_face: Option<MasterFace>,
+    /// The patch's tilt law (a reduced interface's contact points; `None` elsewhere).
+    pub tilt: Option<Tilt>,
+}
+
+/// A reduced contact point's patch law: its share of the pad face, integrated.
+///
+/// A reduced contact node stands for a patch of the pad face, tied to it by a distributing
+/// coupling that holds the patch's mean translation only: alone, the point lets the pad
+/// patch tilt freely against the disc patch, where the full model's penalty springs over
+/// the patch resist it with k_n I (I the closed part's second moment of area). The tilt node
+/// r holds the patches' relative slope: its components along `axes` are `arm` times the
+/// least-squares slope of the pad patch's normal displacement minus the disc patch's (tied
+/// by stiff springs, [`crate::reduce::tilt`]). The point's normal law is then the full
+/// model's over its share: the gap at offset xi is g + theta . xi (theta = e . u_r / arm) and
+/// each quadrature point of the share carries k_n a max(0, -gap), so a partly closed patch
+/// carries its closed part's force, moment and stiffness only (a switch on the whole patch
+/// over-stiffened the edge of the contact zone: issue 29).
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Tilt {
+    /// The tilt node r (an extra node).
+    pub node: usize,
+    /// Unit in-plane axes (orthogonal to the point's normal and to each other).
+    pub axes: [[f64; 3]; 2],
+    /// The share of the pad face as quadrature points: (offset from the contact point along
+    /// `axes`, area); the areas add up to the point's area.
+    pub patch: Vec<([f64; 2], f64)>,
+    /// r's scale: theta = (e . u_r) / arm.
+    pub arm: f64,
+    /// k_n, N/m^3 (the pair's penalty per unit area).
+    pub penalty: f64,
+}
+
+/// The patch law at gap `g` and tilt `theta` ([`Tilt::patch`]): normal force F (on the
+/// slave, >= 0), moment M_a = sum f_j xi_ja, and the stiffnesses k0 = k_n sum_closed a_j,
+/// k1_a = k_n sum_closed a_j xi_ja, k2_ab = k_n sum_closed a_j xi_ja xi_jb.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PatchLaw {
+    pub force: f64,
+    pub moment: [f64; 2],
+    pub k0: f64,
+    pub k1: [f64; 2],
+    pub k2: [[f64; 2]; 2],
+}
+
+impl Tilt {
+    pub fn law(&self, gap: f64, theta: [f64; 2]) -> PatchLaw {
+        let mut l = PatchLaw::default();
+        for &(xi, a) in &self.patch {
+            let g = gap + theta[0] * xi[0] + theta[1] * xi[1];
+            if g > 0.0 {
+                continue;
+            }
+            let k = self.penalty * a;
+            let f = -k * g;
+            l.force += f;
+            l.k0 += k;
+            for p in 0..2 {
+                l.moment[p] += f * xi[p];
+                l.k1[p] += k * xi[p];
+                for q in 0..2 {
+                    l.k2[p][q] += k * xi[p] * xi[q];
+                }
+            }
+        }
+        l
+    }
+
+    /// theta from the tilt node's displacement.
+    pub fn theta(&self, u_r: [f64; 3]) -> [f64; 2] {
+        let d = |e: [f64; 3]| (e[0] * u_r[0] + e[1] * u_r[1] + e[2] * u_r[2]) / self.arm;
+        [d(self.axes[0]), d(self.axes[1])]
+    }
 }
 
 /// A contact interface: settings, resolved penalty and contact points.
@@ -631,6 +703,7 @@ fn project_slave_nodes(
                 side: face.side,
                 q: hit.q,
             }),
+            tilt: None,
         });
     }
     if !unprojected.is_empty() {
@@ -999,6 +1072,7 @@ mod tests {
             position: [0.0; 3],
             slave_node: 0,
             master_face: None,
+            tilt: None,
         };
         assert!(node_to_node(settings(rotation()), 1.0, vec![good.clone()]).is_ok());
         let check = |f: &dyn Fn(&mut ContactPoint), expect: &str| {

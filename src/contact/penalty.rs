@@ -29,7 +29,7 @@
 //! anchor the next increment starts from.
 
 use super::coulomb::{self, Status, Tangential};
-use super::pair::{ContactPair, ContactPoint, FrictionLaw, SlidingDirection};
+use super::pair::{ContactPair, ContactPoint, FrictionLaw, SlidingDirection, Tilt};
 use super::ContactError;
 use crate::vector3::{add, cross, dot, norm, scale, sub};
 
@@ -108,9 +108,16 @@ fn state_and_tangential(
     point: &ContactPoint,
     anchor: [f64; 3],
     w: [f64; 3],
+    theta: [f64; 2],
 ) -> (PointState, Option<Tangential>) {
     let gap = point.initial_gap + dot(point.normal, w);
-    let (closed, normal_force, slope) = normal_law(pair, point, gap);
+    let (closed, normal_force, slope) = match &point.tilt {
+        Some(tilt) => {
+            let l = tilt.law(gap, theta);
+            (l.k0 > 0.0, l.force, l.k0)
+        }
+        None => normal_law(pair, point, gap),
+    };
     let mut state = PointState {
         gap,
         normal_force,
@@ -168,7 +175,20 @@ pub fn point_state(
     u: &[[f64; 3]],
 ) -> Result<PointState, ContactError> {
     let w = relative(pair, point, u)?;
-    Ok(state_and_tangential(pair, point, anchor, w).0)
+    let theta = tilt_of(pair, point, u)?;
+    Ok(state_and_tangential(pair, point, anchor, w, theta).0)
+}
+
+/// The patch's tilt theta of a point with a tilt law (zero without).
+fn tilt_of(
+    pair: &ContactPair,
+    point: &ContactPoint,
+    u: &[[f64; 3]],
+) -> Result<[f64; 2], ContactError> {
+    match &point.tilt {
+        Some(t) => Ok(t.theta(displacement(pair, u, t.node)?)),
+        None => Ok([0.0; 2]),
+    }
 }
 
 /// The contact force on the slave point, `p n` plus the friction force, for a state.
@@ -189,15 +209,20 @@ pub fn evaluate(
     u: &[[f64; 3]],
 ) -> Result<(PointState, Option<PointContribution>), ContactError> {
     let w = relative(pair, point, u)?;
-    let (state, tangential) = state_and_tangential(pair, point, anchor, w);
+    let theta = tilt_of(pair, point, u)?;
+    let (state, tangential) = state_and_tangential(pair, point, anchor, w, theta);
     if !state.closed {
         return Ok((state, None));
     }
     let weights: Vec<(usize, f64)> = signed_weights(point).collect();
     let force = slave_force(point, &state);
     let n = point.normal;
-    // The normal force's slope: k A, or the CalculiX law's at this gap.
-    let stiffness = normal_law(pair, point, state.gap).2;
+    // The normal force's slope: k A, or the CalculiX law's at this gap, or the patch's.
+    let patch = point.tilt.as_ref().map(|t| t.law(state.gap, theta));
+    let stiffness = match &patch {
+        Some(l) => l.k0,
+        None => normal_law(pair, point, state.gap).2,
+    };
     let size = 3 * weights.len();
     let mut residual = vec![0.0; size];
     let mut jacobian = vec![0.0; size * size];
@@ -228,14 +253,77 @@ pub fn evaluate(
             }
         }
     }
-    Ok((
-        state,
-        Some(PointContribution {
-            nodes: weights.iter().map(|&(node, _)| node).collect(),
-            residual,
-            jacobian,
-        }),
-    ))
+    let mut contribution = PointContribution {
+        nodes: weights.iter().map(|&(node, _)| node).collect(),
+        residual,
+        jacobian,
+    };
+    if let (Some(tilt), Some(law)) = (&point.tilt, &patch) {
+        // The direction the force on the slave changes in with the approach (the friction
+        // of a steady-sliding point follows the normal force; a Coulomb point's tangential
+        // coupling to the tilt is left out).
+        let mut direction = n;
+        if let (None, Some(t)) = (&tangential, point.tangent) {
+            direction = add(direction, scale(pair.settings.friction, t));
+        }
+        contribution.add_patch(tilt, law, &weights, direction, n);
+    }
+    Ok((state, Some(contribution)))
+}
+
+impl PointContribution {
+    /// Appends the tilt node's rows and columns of a patch law (see [`Tilt`]): with
+    /// E = sum_j (k_n a_j / 2) max(0, -g_j)^2, g_j = g + theta . xi_j, theta = e . u_r / arm,
+    /// the tilt node's internal force -sum_a M_a e_a / arm, and the couplings
+    /// d r_k / d u_r = c_k d (sum_a k1_a e_a)^T / arm, d r_r / d u_m = c_m (sum_a k1_a e_a) n^T / arm,
+    /// d r_r / d u_r = sum_ab k2_ab e_a e_b^T / arm^2 (symmetric without friction).
+    fn add_patch(
+        &mut self,
+        tilt: &Tilt,
+        law: &super::pair::PatchLaw,
+        weights: &[(usize, f64)],
+        direction: [f64; 3],
+        n: [f64; 3],
+    ) {
+        let e = tilt.axes;
+        let arm = tilt.arm;
+        let k1e: [f64; 3] = [0, 1, 2].map(|i| (law.k1[0] * e[0][i] + law.k1[1] * e[1][i]) / arm);
+        let k2: [[f64; 3]; 3] = [0, 1, 2].map(|i| {
+            [0, 1, 2].map(|j| {
+                let mut s = 0.0;
+                for a in 0..2 {
+                    for b in 0..2 {
+                        s += law.k2[a][b] * e[a][i] * e[b][j];
+                    }
+                }
+                s / (arm * arm)
+            })
+        });
+        let old = 3 * self.nodes.len();
+        let size = old + 3;
+        let mut jacobian = vec![0.0; size * size];
+        for i in 0..old {
+            jacobian[i * size..i * size + old]
+                .copy_from_slice(&self.jacobian[i * old..(i + 1) * old]);
+        }
+        for (k, &(_, ck)) in weights.iter().enumerate() {
+            for i in 0..3 {
+                for j in 0..3 {
+                    jacobian[(3 * k + i) * size + old + j] = ck * direction[i] * k1e[j];
+                    jacobian[(old + i) * size + 3 * k + j] = ck * k1e[i] * n[j];
+                }
+            }
+        }
+        for i in 0..3 {
+            for j in 0..3 {
+                jacobian[(old + i) * size + old + j] = k2[i][j];
+            }
+            self.residual
+                .push(-(law.moment[0] * e[0][i] + law.moment[1] * e[1][i]) / arm);
+        }
+        self.nodes.push(tilt.node);
+        self.jacobian = jacobian;
+    }
 }
 
 /// Pressure statistics over the closed points of a pair.
@@ -711,6 +799,7 @@ mod tests {
             position: [0.0; 3],
             slave_node: 0,
             master_face: None,
+            tilt: None,
         };
         let p = node_to_node(settings, 5e10, vec![point]).unwrap();
         let mut rng = Lcg(9);
@@ -747,5 +836,84 @@ mod tests {
                 nodes: 4
             }
         );
+    }
+
+    /// A patch law (a reduced contact with a tilt node): the Jacobian against central
+    /// differences with the patch partly closed, symmetric without friction, and the whole
+    /// patch closed with no tilt giving the point law k A (-g).
+    #[test]
+    fn patch_law_jacobian_matches_finite_differences_partly_closed() {
+        let n = [0.0, 0.0, 1.0];
+        let e = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+        // A 0.2 x 0.2 share as 8 x 8 points, offset a little from the contact point.
+        let mut patch = Vec::new();
+        for i in 0..8 {
+            for j in 0..8 {
+                let x = -0.09 + 0.2 * (i as f64 + 0.5) / 8.0 - 0.1;
+                let y = 0.013 + 0.2 * (j as f64 + 0.5) / 8.0 - 0.1;
+                patch.push(([x, y], 0.04 / 64.0));
+            }
+        }
+        for mu in [0.0, 0.3] {
+            let settings = PairSettings {
+                name: "reduced".into(),
+                friction: mu,
+                penalty: None,
+                separation: true,
+                sliding: SlidingDirection::Fixed([0.0, 1.0, 0.0]),
+                law: crate::contact::FrictionLaw::SteadySliding,
+                calculix: None,
+            };
+            let point = crate::contact::pair::ContactPoint {
+                slave: vec![(0, 0.6), (1, 0.4)],
+                master: vec![(2, 1.0)],
+                normal: n,
+                initial_gap: 0.0,
+                area: 0.04,
+                tangent: Some([0.0, 1.0, 0.0]),
+                position: [0.0; 3],
+                slave_node: 0,
+                master_face: None,
+                tilt: Some(crate::contact::Tilt {
+                    node: 3,
+                    axes: e,
+                    patch: patch.clone(),
+                    arm: 0.05,
+                    penalty: 5e10,
+                }),
+            };
+            let p = node_to_node(settings, 5e10, vec![point]).unwrap();
+            // Approach 1e-4, tilt -3e-3 rad along x: the patch closed on one side only.
+            let mut u = vec![[0.0; 3]; 4];
+            u[0] = [0.0, 0.0, -1e-4];
+            u[1] = [0.0, 0.0, -1e-4];
+            u[3] = [0.05 * -3e-3, 0.05 * -1e-3, 0.0];
+            let (state, c) = evaluate(&p, &p.points[0], [0.0; 3], &u).unwrap();
+            let l = p.points[0]
+                .tilt
+                .as_ref()
+                .unwrap()
+                .law(state.gap, [-3e-3, -1e-3]);
+            assert!(
+                l.k0 > 0.0 && l.k0 < 5e10 * 0.04 * 0.9,
+                "partly closed: {l:?}"
+            );
+            assert_eq!(check_jacobian(&p, &u), 1);
+            let c = c.unwrap();
+            assert_eq!(c.nodes, vec![0, 1, 2, 3]);
+            if mu == 0.0 {
+                let size = 12;
+                for r in 0..size {
+                    for k in 0..size {
+                        let (a, b) = (c.jacobian[r * size + k], c.jacobian[k * size + r]);
+                        assert!((a - b).abs() <= 1e-12 * 5e10 * 0.04, "{r},{k}: {a} vs {b}");
+                    }
+                }
+            }
+            // No tilt, everything closed: the point law.
+            let flat = vec![[0.0, 0.0, -1e-4], [0.0, 0.0, -1e-4], [0.0; 3], [0.0; 3]];
+            let s = point_state(&p, &p.points[0], [0.0; 3], &flat).unwrap();
+            assert!((s.normal_force / (5e10 * 0.04 * 1e-4) - 1.0).abs() < 1e-12);
+        }
     }
 }

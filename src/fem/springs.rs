@@ -89,6 +89,64 @@ pub fn add_coupling_springs(
     k.assemble()
 }
 
+/// A spring on one linear combination of displacement components: energy
+/// (k/2) (sum_j g_j . u_j)^2, each node j with its own coefficient vector g_j. It ties a
+/// reduced contact's tilt node to the slopes of its patches ([`crate::contact::Tilt`]), where
+/// each node enters along a different direction, which a [`CouplingSpring`] (the same
+/// coefficient in every component) cannot say.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct ScalarSpring {
+    /// (node, g_j).
+    pub terms: Vec<(usize, [f64; 3])>,
+    /// N/m.
+    pub stiffness: f64,
+}
+
+impl ScalarSpring {
+    /// The nodes it couples (for the sparsity pattern).
+    pub fn nodes(&self) -> Vec<usize> {
+        self.terms.iter().map(|t| t.0).collect()
+    }
+
+    /// Its stiffness k g g^T over the terms' components (3 per term, term-major).
+    pub fn matrix(&self) -> Vec<f64> {
+        let g: Vec<f64> = self.terms.iter().flat_map(|t| t.1).collect();
+        let n = g.len();
+        let mut block = vec![0.0; n * n];
+        for (a, ga) in g.iter().enumerate() {
+            for (b, gb) in g.iter().enumerate() {
+                block[a * n + b] = self.stiffness * (ga * gb);
+            }
+        }
+        block
+    }
+}
+
+/// Adds the scalar springs whose first node this rank owns (each counts once) to K (already
+/// assembled: assembles again; the pattern must hold them). Collective.
+pub fn add_scalar_springs(
+    k: &mut Matrix,
+    dofs: &DofMap,
+    springs: &[ScalarSpring],
+) -> Result<(), PetscError> {
+    let owned = dofs.owned_nodes();
+    for s in springs {
+        let Some(&(first, _)) = s.terms.first() else {
+            continue;
+        };
+        if !owned.contains(&first) {
+            continue;
+        }
+        let idx: Vec<PetscInt> = s
+            .terms
+            .iter()
+            .flat_map(|&(n, _)| dofs.node_equations(n).map(|e| e as PetscInt))
+            .collect();
+        k.add_block(&idx, &idx, &s.matrix())?;
+    }
+    k.assemble()
+}
+
 /// A spring between two nodes along a direction (a guide pin, a piston seal): energy
 /// (k/2) (d . (u_a - u_b))^2, force -k d d^T (u_a - u_b) on node a and its opposite on node b.
 /// A rigid translation moves both nodes alike and stores nothing; the nodes need not

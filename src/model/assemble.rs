@@ -6,7 +6,9 @@ use super::Model;
 use crate::fem::constraints::ConstraintError;
 use crate::fem::element::MassRule;
 use crate::fem::point_mass::add_point_masses;
-use crate::fem::springs::{add_coupling_springs, add_ground_springs, add_two_node_springs};
+use crate::fem::springs::{
+    add_coupling_springs, add_ground_springs, add_scalar_springs, add_two_node_springs,
+};
 use crate::fem::transform::{Transform, TransformError};
 use crate::fem::{assemble as fem_assemble, AssemblyError, DofError, DofMap, StructureOptions};
 use crate::petsc::{Comm, Matrix, PetscError, Vector};
@@ -82,7 +84,12 @@ pub fn assemble<'rt>(
     let mesh = &model.mesh;
     let dofs = dof_map(comm, model)?;
     let contact = crate::contact::contact_groups(&model.pairs);
-    let couplings: Vec<Vec<usize>> = model.couplings.iter().map(|c| c.nodes()).collect();
+    let couplings: Vec<Vec<usize>> = model
+        .couplings
+        .iter()
+        .map(|c| c.nodes())
+        .chain(model.scalar_springs.iter().map(|s| s.nodes()))
+        .collect();
     let links: Vec<[usize; 2]> = model.links.iter().map(|l| l.nodes).collect();
     // A node of a grounded spring or a point mass may be in no element (a deck's mass on a
     // node of its own): its diagonal block must still be in the pattern.
@@ -118,6 +125,9 @@ pub fn assemble<'rt>(
     }
     if !model.couplings.is_empty() {
         add_coupling_springs(&mut stiffness, &dofs, &model.couplings)?;
+    }
+    if !model.scalar_springs.is_empty() {
+        add_scalar_springs(&mut stiffness, &dofs, &model.scalar_springs)?;
     }
     if !model.links.is_empty() {
         add_two_node_springs(&mut stiffness, &dofs, &model.links)?;

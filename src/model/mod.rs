@@ -19,7 +19,7 @@ pub use error::ModelError;
 use crate::contact::ContactPair;
 use crate::fem::constraints::LinearConstraint;
 use crate::fem::point_mass::PointMass;
-use crate::fem::springs::{CouplingSpring, GroundSpring, TwoNodeSpring};
+use crate::fem::springs::{CouplingSpring, GroundSpring, ScalarSpring, TwoNodeSpring};
 use crate::fem::Support;
 use crate::mesh::{Face, Mesh};
 
@@ -49,6 +49,8 @@ pub struct Model {
     pub point_masses: Vec<PointMass>,
     /// Springs tying a node to a weighted combination of nodes (distributing couplings).
     pub couplings: Vec<CouplingSpring>,
+    /// Springs on one linear combination of components each (a reduced contact's tilt ties).
+    pub scalar_springs: Vec<ScalarSpring>,
     /// Linear multi-point constraints applied exactly (a deck's `*EQUATION`, distributing
     /// couplings, supports and prescribed displacements in local directions, nonzero
     /// prescribed displacements), in the order they are eliminated.

@@ -749,6 +749,7 @@ mod tests {
             position: b.pad_position,
             slave_node: 2 * k,
             master_face: None,
+            tilt: None,
         };
         contact::node_to_node(settings, b.penalty, vec![point]).unwrap()
     }

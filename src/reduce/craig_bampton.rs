@@ -49,6 +49,12 @@ pub enum SuperElementError {
     PairIndex { index: usize, pairs: usize },
     #[error("no swept pair given: a super-element needs a reduced interface to keep")]
     NoSweptPair,
+    /// A reduced interface with patch laws: its tilt nodes are not on the boundary yet.
+    #[error(
+        "pair '{pair}' carries patch laws (reduction.tilt, --tilt): super-elements of it are \
+         not built yet, their boundary would need each reduced contact's tilt node"
+    )]
+    Tilted { pair: String },
     #[error("contact pair '{pair}' was not reduced (it is no pad of the reduced interface)")]
     NotReduced { pair: String },
     #[error("contact pair '{pair}', point {point}: not the node-to-node contact c_k/d_k of its reduced pad")]
@@ -96,6 +102,11 @@ fn boundary(
         return Err(SuperElementError::PairIndex { index, pairs });
     }
     for &i in swept {
+        if model.pairs[i].points.iter().any(|p| p.tilt.is_some()) {
+            return Err(SuperElementError::Tilted {
+                pair: model.pairs[i].settings.name.clone(),
+            });
+        }
         let name = &model.pairs[i].settings.name;
         if !reduced.pads.iter().any(|p| &p.pair == name) {
             return Err(SuperElementError::NotReduced { pair: name.clone() });

@@ -30,6 +30,13 @@ pub enum ReduceError {
         fraction: f64,
         size: f64,
     },
+    /// A reduced contact node's tilt law cannot be made (its patch gives no slope).
+    #[error("pair '{pair}', reduced contact node {reduced_node}: no tilt law: {why}")]
+    Tilt {
+        pair: String,
+        reduced_node: usize,
+        why: String,
+    },
     /// No grid point falls inside the surface.
     #[error("surface '{surface}': {requested} leaves no reduced contact node on the surface")]
     NoNode { surface: String, requested: String },

@@ -88,7 +88,7 @@ impl MeanPlane {
 }
 
 /// One reduced contact node.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct ReducedNode {
     /// The grid point, in the mean plane's coordinates.
     pub plane: [f64; 2],
@@ -102,6 +102,14 @@ pub struct ReducedNode {
     pub local: [f64; 2],
     /// Tributary area: the node's share of the surface's area.
     pub area: f64,
+    /// The share's second moment of area about its own centroid, in the mean plane's axes
+    /// (m^4): what a patch of uniform contact stiffness resists tilting with
+    /// ([`crate::contact::Tilt`]).
+    pub second_moment: [[f64; 2]; 2],
+    /// The share as quadrature points: (offset from the node in the mean plane's axes, area),
+    /// the sub-triangles' centroids and areas that give `area` (the patch law integrates
+    /// the contact over them, [`crate::contact::Tilt`]).
+    pub patch: Vec<([f64; 2], f64)>,
 }
 
 /// The reduced contact nodes of one surface.
@@ -142,11 +150,49 @@ impl ContactGrid {
             _ => String::new(),
         };
         format!(
-            "surface '{}': {} reduced contact nodes, grid side h = {:.6e}{met}",
+            "surface '{}': {} reduced contact nodes, grid side h = {:.6e}{met}; point contacts \
+             hold {:.1} % of the face's second moment of area",
             self.surface,
             self.nodes.len(),
-            self.spacing
+            self.spacing,
+            100.0 * self.second_moment_held()
         )
+    }
+
+    /// The fraction of the face's second moment of area (about its centroid, trace) that
+    /// point contacts at the nodes hold, sum A_k |x_k - c|^2 over sum_share a |x - c|^2: a
+    /// uniformly pressed face resists a rigid rocking with k_n times this second moment, and
+    /// point contacts lose their shares' own (the parallel-axis remainder), which patch laws
+    /// keep ([`crate::reduce::tilt`]).
+    pub fn second_moment_held(&self) -> f64 {
+        let area: f64 = self.nodes.iter().map(|n| n.area).sum();
+        if area <= 0.0 {
+            return 0.0;
+        }
+        // The face's centroid, from the shares' quadrature points.
+        let c = [0, 1].map(|i| {
+            self.nodes
+                .iter()
+                .flat_map(|n| n.patch.iter().map(move |&(xi, a)| a * (n.plane[i] + xi[i])))
+                .sum::<f64>()
+                / area
+        });
+        let d2 = |x: [f64; 2]| (x[0] - c[0]).powi(2) + (x[1] - c[1]).powi(2);
+        let points: f64 = self.nodes.iter().map(|n| n.area * d2(n.plane)).sum();
+        let face: f64 = self
+            .nodes
+            .iter()
+            .flat_map(|n| {
+                n.patch
+                    .iter()
+                    .map(move |&(xi, a)| a * d2([n.plane[0] + xi[0], n.plane[1] + xi[1]]))
+            })
+            .sum();
+        if face > 0.0 {
+            points / face
+        } else {
+            0.0
+        }
     }
 }
 
@@ -242,11 +288,12 @@ pub fn isometric_grid(
             requested: format!("{} (grid side h = {spacing:e})", size.describe()),
         });
     }
-    let areas = projected.tributary_areas(&kept, spacing);
+    let (shares, patches) = projected.tributary_areas(&kept, spacing);
     let nodes = kept
         .iter()
-        .zip(areas)
-        .map(|(hit, area)| {
+        .zip(shares)
+        .zip(patches)
+        .map(|((hit, share), patch)| {
             let x = &projected.faces[hit.face];
             ReducedNode {
                 plane: hit.plane,
@@ -254,7 +301,9 @@ pub fn isometric_grid(
                 normal: element::face_normal_at(x, hit.local).unwrap_or(projected.plane.normal),
                 face: hit.face,
                 local: hit.local,
-                area,
+                area: share.area,
+                second_moment: share.central_second_moment(),
+                patch,
             }
         })
         .collect();
@@ -521,9 +570,12 @@ impl ProjectedSurface {
     /// scaled to the face's area so that they add up to the surface's area to round-off (the
     /// scaling is 1 on flat straight-sided faces and differs from it by the centroid rule's
     /// error on curved ones).
-    fn tributary_areas(&self, nodes: &[Hit], h: f64) -> Vec<f64> {
-        let mut areas = vec![0.0; nodes.len()];
-        let mut shares = vec![0.0; nodes.len()];
+    #[allow(clippy::type_complexity)]
+    fn tributary_areas(&self, nodes: &[Hit], h: f64) -> (Vec<Share>, Vec<Vec<([f64; 2], f64)>>) {
+        let mut areas = vec![Share::default(); nodes.len()];
+        let mut shares = vec![Share::default(); nodes.len()];
+        let mut patches: Vec<Vec<([f64; 2], f64)>> = vec![Vec::new(); nodes.len()];
+        let mut pending: Vec<(usize, [f64; 2], f64)> = Vec::new();
         let mut touched: Vec<usize> = Vec::new();
         for (x, flat) in self.faces.iter().zip(&self.flat) {
             let across = [(0, 1), (1, 2), (2, 0)]
@@ -538,10 +590,12 @@ impl ProjectedSurface {
                 let a = weight * norm(element::face_area_vector_at(x, q));
                 let p = element::face_point(flat, q);
                 let nearest = nearest_node(nodes, [p[0], p[1]]);
-                if shares[nearest] == 0.0 {
+                if shares[nearest].area == 0.0 {
                     touched.push(nearest);
                 }
-                shares[nearest] += a;
+                let o = nodes[nearest].plane;
+                shares[nearest].add(a, [p[0] - o[0], p[1] - o[1]]);
+                pending.push((nearest, [p[0] - o[0], p[1] - o[1]], a));
                 face_sum += a;
             };
             for i in 0..m {
@@ -554,12 +608,56 @@ impl ProjectedSurface {
             }
             let scale = element::face_area(x) / face_sum;
             for &k in &touched {
-                areas[k] += scale * shares[k];
-                shares[k] = 0.0;
+                areas[k].add_scaled(scale, &shares[k]);
+                shares[k] = Share::default();
             }
             touched.clear();
+            for (k, r, a) in pending.drain(..) {
+                patches[k].push((r, scale * a));
+            }
         }
-        areas
+        (areas, patches)
+    }
+}
+
+/// A reduced node's share of a surface: its area and the first and second moments of that
+/// area about the node (in the mean plane's coordinates), summed over the sub-triangles'
+/// centroids (the same one-point rule that gives the area).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+struct Share {
+    area: f64,
+    first: [f64; 2],
+    second: [[f64; 2]; 2],
+}
+
+impl Share {
+    fn add(&mut self, a: f64, r: [f64; 2]) {
+        self.area += a;
+        for i in 0..2 {
+            self.first[i] += a * r[i];
+            for j in 0..2 {
+                self.second[i][j] += a * r[i] * r[j];
+            }
+        }
+    }
+
+    fn add_scaled(&mut self, scale: f64, other: &Share) {
+        self.area += scale * other.area;
+        for i in 0..2 {
+            self.first[i] += scale * other.first[i];
+            for j in 0..2 {
+                self.second[i][j] += scale * other.second[i][j];
+            }
+        }
+    }
+
+    /// The second moment about the share's centroid (parallel-axis theorem).
+    fn central_second_moment(&self) -> [[f64; 2]; 2] {
+        if self.area <= 0.0 {
+            return [[0.0; 2]; 2];
+        }
+        let c = self.first.map(|f| f / self.area);
+        [0, 1].map(|i| [0, 1].map(|j| self.second[i][j] - self.area * c[i] * c[j]))
     }
 }
 
@@ -893,6 +991,35 @@ mod tests {
             "{}",
             centre.area / cell
         );
+        // Its quadrature points (the patch law's) hold its area to round-off and give its
+        // second moment; a regular hexagon's about any in-plane axis through its centre is
+        // (5 sqrt 3 / 16) s^4 with s = h / sqrt 3, i.e. (10 / 144) A h^2, to the resolution.
+        let area: f64 = centre.patch.iter().map(|p| p.1).sum();
+        assert!((area / centre.area - 1.0).abs() < 1e-12);
+        let first = [0, 1].map(|i| centre.patch.iter().map(|p| p.1 * p.0[i]).sum::<f64>() / area);
+        let second = [0, 1].map(|i| {
+            [0, 1].map(|j| {
+                centre
+                    .patch
+                    .iter()
+                    .map(|p| p.1 * p.0[i] * p.0[j])
+                    .sum::<f64>()
+                    - area * first[i] * first[j]
+            })
+        });
+        let hexagon = 10.0 / 144.0 * centre.area * h * h;
+        for i in 0..2 {
+            for j in 0..2 {
+                let d = second[i][j] - centre.second_moment[i][j];
+                assert!(
+                    d.abs() <= 1e-9 * hexagon,
+                    "{second:?} vs {:?}",
+                    centre.second_moment
+                );
+            }
+            assert!((second[i][i] / hexagon - 1.0).abs() < 0.02, "{second:?}");
+        }
+        assert!(second[0][1].abs() < 0.02 * hexagon, "{second:?}");
         // Lattice vectors of length h, 60 degrees apart.
         let [a, b] = grid.lattice;
         assert!((a[0].hypot(a[1]) - h).abs() < 1e-15);

@@ -30,6 +30,7 @@
 use super::coupling::{couple_grid, couple_points, DistributingCoupling, Weighting};
 use super::grid::{isometric_grid, ContactGrid, GridSize};
 use super::radius::{grid_optimal, paper_radius};
+use super::tilt;
 use super::ReduceError;
 use crate::contact::project::SurfaceSearch;
 use crate::contact::{self, ContactPoint};
@@ -38,6 +39,9 @@ use crate::model::Model;
 
 /// k_s = this times the contact stiffness k_n A_k of the node it ties (see the module doc).
 pub const DEFAULT_SPRING_FACTOR: f64 = 1e3;
+
+/// Whether a reduced interface has tilt laws unless told ([`super::tilt`]).
+pub const DEFAULT_TILT: bool = false;
 
 /// Gaps below this fraction of the disc's face size are round-off (see [`reduce_interface`]).
 const TOUCHING: f64 = 1e-9;
@@ -86,6 +90,9 @@ pub struct InterfaceSettings {
     /// Distributing couplings weigh each node by its tributary area too
     /// ([`DistributingCoupling::area_weighted`]); false: the paper's weights alone.
     pub area_weighting: bool,
+    /// Each reduced contact carries its patch law ([`super::tilt`]); false:
+    /// the paper's point contacts alone.
+    pub tilt: bool,
 }
 
 impl Default for InterfaceSettings {
@@ -98,6 +105,7 @@ impl Default for InterfaceSettings {
             spring_factor: 1.0,
             disc_coupling: DiscCoupling::ShapeFunctions,
             area_weighting: false,
+            tilt: DEFAULT_TILT,
         }
     }
 }
@@ -120,6 +128,9 @@ pub struct ReducedPad {
     pub disc_ties: Vec<Vec<(usize, f64)>>,
     /// k_s of each node's ties.
     pub spring_stiffness: Vec<f64>,
+    /// Model node index of each reduced contact node's tilt node r_k ([`super::tilt`]), in
+    /// the grid's order; empty without tilt.
+    pub tilt_nodes: Vec<usize>,
 }
 
 /// A reduced-interface model and what was reduced.
@@ -136,8 +147,13 @@ impl ReducedInterface {
             .iter()
             .map(|p| {
                 let ks = p.spring_stiffness.iter().fold(0.0, |a: f64, &b| a.max(b));
+                let patch = if p.tilt_nodes.is_empty() {
+                    ""
+                } else {
+                    "; patch laws (a tilt node per reduced contact node)"
+                };
                 format!(
-                    "{}: {}; radius of influence {:.4e} ({:.3} h), tie springs up to {:.3e} N/m",
+                    "{}: {}; radius of influence {:.4e} ({:.3} h), tie springs up to {:.3e} N/m{patch}",
                     p.pair,
                     p.grid.summary(),
                     p.radius,
@@ -209,6 +225,59 @@ fn disc_ties(
     }
 }
 
+/// The disc patch under each of `hits` whose slope a tilt node reads: a distributing
+/// coupling of the pad side's radius and weighting (area-weighted as the pad side is), what
+/// the disc ties use when they are distributing ones.
+fn disc_patches(
+    mesh: &crate::mesh::Mesh,
+    master: &crate::mesh::Surface,
+    hits: &[crate::contact::project::SurfaceHit],
+    radius: f64,
+    settings: &InterfaceSettings,
+    plane_axes: [[f64; 3]; 2],
+) -> Result<Vec<DistributingCoupling>, ReduceError> {
+    let disc_side = |e: ReduceError| ReduceError::InvalidSurface {
+        surface: master.name.clone(),
+        why: format!("disc-side patch of a tilt node: {e}"),
+    };
+    let areas: std::collections::BTreeMap<usize, f64> = if settings.area_weighting {
+        contact::tributary_areas(mesh, master).into_iter().collect()
+    } else {
+        Default::default()
+    };
+    let mut couplings = Vec::with_capacity(hits.len());
+    for hit in hits {
+        // The disc is meshed coarser than a fine grid's spacing: a patch of the pad side's
+        // radius may catch two disc nodes, which give no slope across their line. Widen it
+        // (the disc's face is stiff and smooth under a patch) until it gives one.
+        let mut r = radius;
+        let mut made = None;
+        for _ in 0..6 {
+            let Ok(mut found) = couple_points(mesh, master, &[hit.point], r, settings.weighting)
+            else {
+                r *= 1.5;
+                continue;
+            };
+            let mut c = found.remove(0);
+            if settings.area_weighting {
+                c = c.area_weighted(&areas).map_err(disc_side)?;
+            }
+            let slope = tilt::axes(plane_axes, hit.normal)
+                .and_then(|e| tilt::slope_terms(&tilt::patch(&c, &mesh.nodes), e, hit.normal));
+            if slope.is_some() {
+                made = Some(c);
+                break;
+            }
+            r *= 1.5;
+        }
+        couplings.push(made.ok_or_else(|| ReduceError::InvalidSurface {
+            surface: master.name.clone(),
+            why: "no disc-side patch gives a slope under a tilt node".into(),
+        })?);
+    }
+    Ok(couplings)
+}
+
 /// Replaces every swept node-to-surface pair of `model` by a reduced interface.
 pub fn reduce_interface(
     model: &Model,
@@ -273,6 +342,7 @@ pub fn reduce_interface(
             disc_nodes: Vec::new(),
             disc_ties: Vec::new(),
             spring_stiffness: Vec::new(),
+            tilt_nodes: Vec::new(),
         };
         let hits = grid
             .nodes
@@ -290,6 +360,11 @@ pub fn reduce_interface(
             })
             .collect::<Result<Vec<_>, _>>()?;
         let disc_ties = disc_ties(mesh, master, &hits, radius, settings)?;
+        let disc_patches = if settings.tilt {
+            disc_patches(mesh, master, &hits, radius, settings, grid.plane.axes)?
+        } else {
+            Vec::new()
+        };
         for (k, ((node, coupling), hit)) in grid.nodes.iter().zip(&couplings).zip(&hits).enumerate()
         {
             let p = node.position;
@@ -314,6 +389,37 @@ pub fn reduce_interface(
                 terms: disc_tie,
                 stiffness: k_s,
             });
+            let tilt = if settings.tilt {
+                let r = reduced.node_count();
+                let made = tilt::node_tilt(
+                    &name,
+                    k,
+                    r,
+                    hit.normal,
+                    grid.plane.axes,
+                    &tilt::patch(coupling, &mesh.nodes),
+                    &tilt::patch(&disc_patches[k], &mesh.nodes),
+                    node.area,
+                    node.second_moment,
+                    &node.patch,
+                    pair.penalty,
+                    k_s,
+                )?
+                .ok_or_else(|| ReduceError::Tilt {
+                    pair: name.clone(),
+                    reduced_node: k,
+                    why: format!(
+                        "its share of the pad face (area {:.3e}) has no second moment",
+                        node.area
+                    ),
+                })?;
+                reduced.extra_nodes.push(p);
+                reduced.scalar_springs.extend(made.ties);
+                pad.tilt_nodes.push(r);
+                Some(made.law)
+            } else {
+                None
+            };
             // The contact node lies on the pad face by construction, found by intersecting a
             // line with a curved face: a gap at round-off level is a touching pad (closed at
             // the first Newton step, as the full model's coincident nodes are), not an open
@@ -333,6 +439,7 @@ pub fn reduce_interface(
                 position: p,
                 slave_node: c,
                 master_face: None,
+                tilt,
             });
             pad.contact_nodes.push(c);
             pad.disc_nodes.push(d);

@@ -34,6 +34,7 @@ pub mod radius;
 pub mod strategy;
 pub mod superelement;
 pub mod superelement_file;
+pub mod tilt;
 
 pub use basis::{CoordinatesError, LocalBasis};
 pub use coupling::{
