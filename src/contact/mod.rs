@@ -91,7 +91,7 @@ pub fn contact_groups(pairs: &[pair::ContactPair]) -> Vec<Vec<usize>> {
                 .iter()
                 .chain(&pt.master)
                 .map(|&(n, _)| n)
-                .chain(pt.tilt.as_ref().map(|t| t.node))
+                .chain(pt.tilt.iter().flat_map(|t| t.nodes))
                 .collect()
         })
         .collect()

@@ -262,8 +262,9 @@ pub struct ContactPoint {
 /// over-stiffened the edge of the contact zone: issue 29).
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Tilt {
-    /// The tilt node r (an extra node).
-    pub node: usize,
+    /// The tilt nodes (extra nodes): pad side r_p and disc side r_d, each holding `arm`
+    /// times its patch's slope along `axes`; the tilt is theta = e . (u_rp - u_rd) / arm.
+    pub nodes: [usize; 2],
     /// Unit in-plane axes (orthogonal to the point's normal and to each other).
     pub axes: [[f64; 3]; 2],
     /// The share of the pad face as quadrature points: (offset from the contact point along
@@ -310,7 +311,7 @@ impl Tilt {
         l
     }
 
-    /// theta from the tilt node's displacement.
+    /// theta from the tilt nodes' displacements (u_r = u_rp - u_rd).
     pub fn theta(&self, u_r: [f64; 3]) -> [f64; 2] {
         let d = |e: [f64; 3]| (e[0] * u_r[0] + e[1] * u_r[1] + e[2] * u_r[2]) / self.arm;
         [d(self.axes[0]), d(self.axes[1])]

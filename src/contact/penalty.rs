@@ -186,7 +186,13 @@ fn tilt_of(
     u: &[[f64; 3]],
 ) -> Result<[f64; 2], ContactError> {
     match &point.tilt {
-        Some(t) => Ok(t.theta(displacement(pair, u, t.node)?)),
+        Some(t) => {
+            let (p, d) = (
+                displacement(pair, u, t.nodes[0])?,
+                displacement(pair, u, t.nodes[1])?,
+            );
+            Ok(t.theta(sub(p, d)))
+        }
         None => Ok([0.0; 2]),
     }
 }
@@ -300,28 +306,38 @@ impl PointContribution {
             })
         });
         let old = 3 * self.nodes.len();
-        let size = old + 3;
+        let size = old + 6;
         let mut jacobian = vec![0.0; size * size];
         for i in 0..old {
             jacobian[i * size..i * size + old]
                 .copy_from_slice(&self.jacobian[i * old..(i + 1) * old]);
         }
-        for (k, &(_, ck)) in weights.iter().enumerate() {
-            for i in 0..3 {
-                for j in 0..3 {
-                    jacobian[(3 * k + i) * size + old + j] = ck * direction[i] * k1e[j];
-                    jacobian[(old + i) * size + 3 * k + j] = ck * k1e[i] * n[j];
+        // r_p enters theta with +1, r_d with -1.
+        let sides = [(old, 1.0), (old + 3, -1.0)];
+        for &(at, sign) in &sides {
+            for (k, &(_, ck)) in weights.iter().enumerate() {
+                for i in 0..3 {
+                    for j in 0..3 {
+                        jacobian[(3 * k + i) * size + at + j] = sign * ck * direction[i] * k1e[j];
+                        jacobian[(at + i) * size + 3 * k + j] = sign * ck * k1e[i] * n[j];
+                    }
+                }
+            }
+            for &(at2, sign2) in &sides {
+                for i in 0..3 {
+                    for j in 0..3 {
+                        jacobian[(at + i) * size + at2 + j] = sign * sign2 * k2[i][j];
+                    }
                 }
             }
         }
-        for i in 0..3 {
-            for j in 0..3 {
-                jacobian[(old + i) * size + old + j] = k2[i][j];
-            }
-            self.residual
-                .push(-(law.moment[0] * e[0][i] + law.moment[1] * e[1][i]) / arm);
+        // The tilt nodes' internal force: -sum_a M_a e_a / arm on r_p, its opposite on r_d.
+        let moment: [f64; 3] =
+            [0, 1, 2].map(|i| (law.moment[0] * e[0][i] + law.moment[1] * e[1][i]) / arm);
+        for &(_, sign) in &sides {
+            self.residual.extend(moment.map(|m| -sign * m));
         }
-        self.nodes.push(tilt.node);
+        self.nodes.extend(tilt.nodes);
         self.jacobian = jacobian;
     }
 }
@@ -875,7 +891,7 @@ mod tests {
                 slave_node: 0,
                 master_face: None,
                 tilt: Some(crate::contact::Tilt {
-                    node: 3,
+                    nodes: [3, 4],
                     axes: e,
                     patch: patch.clone(),
                     arm: 0.05,
@@ -884,10 +900,12 @@ mod tests {
             };
             let p = node_to_node(settings, 5e10, vec![point]).unwrap();
             // Approach 1e-4, tilt -3e-3 rad along x: the patch closed on one side only.
-            let mut u = vec![[0.0; 3]; 4];
+            let mut u = vec![[0.0; 3]; 5];
             u[0] = [0.0, 0.0, -1e-4];
             u[1] = [0.0, 0.0, -1e-4];
-            u[3] = [0.05 * -3e-3, 0.05 * -1e-3, 0.0];
+            // theta = e . (u_rp - u_rd) / arm, the disc side tilted too.
+            u[3] = [0.05 * -2e-3, 0.05 * -0.5e-3, 0.0];
+            u[4] = [0.05 * 1e-3, 0.05 * 0.5e-3, 0.0];
             let (state, c) = evaluate(&p, &p.points[0], [0.0; 3], &u).unwrap();
             let l = p.points[0]
                 .tilt
@@ -900,9 +918,9 @@ mod tests {
             );
             assert_eq!(check_jacobian(&p, &u), 1);
             let c = c.unwrap();
-            assert_eq!(c.nodes, vec![0, 1, 2, 3]);
+            assert_eq!(c.nodes, vec![0, 1, 2, 3, 4]);
             if mu == 0.0 {
-                let size = 12;
+                let size = 15;
                 for r in 0..size {
                     for k in 0..size {
                         let (a, b) = (c.jacobian[r * size + k], c.jacobian[k * size + r]);
@@ -911,7 +929,13 @@ mod tests {
                 }
             }
             // No tilt, everything closed: the point law.
-            let flat = vec![[0.0, 0.0, -1e-4], [0.0, 0.0, -1e-4], [0.0; 3], [0.0; 3]];
+            let flat = vec![
+                [0.0, 0.0, -1e-4],
+                [0.0, 0.0, -1e-4],
+                [0.0; 3],
+                [1e-3; 3],
+                [1e-3; 3],
+            ];
             let s = point_state(&p, &p.points[0], [0.0; 3], &flat).unwrap();
             assert!((s.normal_force / (5e10 * 0.04 * 1e-4) - 1.0).abs() < 1e-12);
         }

@@ -128,9 +128,9 @@ pub struct ReducedPad {
     pub disc_ties: Vec<Vec<(usize, f64)>>,
     /// k_s of each node's ties.
     pub spring_stiffness: Vec<f64>,
-    /// Model node index of each reduced contact node's tilt node r_k ([`super::tilt`]), in
-    /// the grid's order; empty without tilt.
-    pub tilt_nodes: Vec<usize>,
+    /// Model node indices of each reduced contact node's tilt nodes (pad side, disc side;
+    /// [`super::tilt`]), in the grid's order; empty without patch laws.
+    pub tilt_nodes: Vec<[usize; 2]>,
 }
 
 /// A reduced-interface model and what was reduced.
@@ -150,7 +150,7 @@ impl ReducedInterface {
                 let patch = if p.tilt_nodes.is_empty() {
                     ""
                 } else {
-                    "; patch laws (a tilt node per reduced contact node)"
+                    "; patch laws (two tilt nodes per reduced contact node)"
                 };
                 format!(
                     "{}: {}; radius of influence {:.4e} ({:.3} h), tie springs up to {:.3e} N/m{patch}",
@@ -390,7 +390,7 @@ pub fn reduce_interface(
                 stiffness: k_s,
             });
             let tilt = if settings.tilt {
-                let r = reduced.node_count();
+                let r = [reduced.node_count(), reduced.node_count() + 1];
                 let made = tilt::node_tilt(
                     &name,
                     k,
@@ -414,6 +414,7 @@ pub fn reduce_interface(
                     ),
                 })?;
                 reduced.extra_nodes.push(p);
+                reduced.extra_nodes.push(hit.point);
                 reduced.scalar_springs.extend(made.ties);
                 pad.tilt_nodes.push(r);
                 Some(made.law)
