@@ -252,11 +252,12 @@ pub struct ContactPoint {
 /// A reduced contact node stands for a patch of the pad face, tied to it by a distributing
 /// coupling that holds the patch's mean translation only: alone, the point lets the pad
 /// patch tilt freely against the disc patch, where the full model's penalty springs over
-/// the patch resist it with k_n I (I the closed part's second moment of area). The tilt node
-/// r holds the patches' relative slope: its components along `axes` are `arm` times the
-/// least-squares slope of the pad patch's normal displacement minus the disc patch's (tied
+/// the patch resist it with k_n I (I the closed part's second moment of area). The tilt
+/// nodes hold the patches' slopes: r_p's components along `axes` are `arm` times the
+/// least-squares slope of the pad patch's normal displacement, r_d's the disc patch's (tied
 /// by stiff springs, [`crate::reduce::tilt`]). The point's normal law is then the full
-/// model's over its share: the gap at offset xi is g + theta . xi (theta = e . u_r / arm) and
+/// model's over its share: the gap at offset xi is g + theta . xi (theta = e . (u_rp - u_rd)
+/// / arm) and
 /// each quadrature point of the share carries k_n a max(0, -gap), so a partly closed patch
 /// carries its closed part's force, moment and stiffness only (a switch on the whole patch
 /// over-stiffened the edge of the contact zone: issue 29).
@@ -270,7 +271,7 @@ pub struct Tilt {
     /// The share of the pad face as quadrature points: (offset from the contact point along
     /// `axes`, area); the areas add up to the point's area.
     pub patch: Vec<([f64; 2], f64)>,
-    /// r's scale: theta = (e . u_r) / arm.
+    /// The tilt nodes' scale: theta = e . (u_rp - u_rd) / arm.
     pub arm: f64,
     /// k_n, N/m^3 (the pair's penalty per unit area).
     pub penalty: f64,
