@@ -176,26 +176,36 @@ fn balance_of(rt: &Runtime, disc: DiscCoupling) -> Result<Vec<f64>, String> {
     let full = tiny(mu);
     let model = reduced_with(&full, 22, 1.0, disc)?;
     let solved = solve(rt, &model, 6000.0)?;
-    let mut normal = 0.0;
-    for pair in &model.pairs {
-        let s = contact::summarize(pair, &[], &solved.displacement).map_err(e)?;
-        normal += s.normal_force;
+    for (pair, s) in model.pairs.iter().zip(carried(&model, &solved, mu)?) {
         if s.closed == 0 {
             return Err(format!(
                 "{}: no reduced contact node closed",
                 pair.settings.name
             ));
         }
+        // The torque is mu N r_eff by definition (see `carried`).
         let r = s.effective_radius;
         if !(0.09..=0.135).contains(&r) {
             return Err(format!("{}: effective radius {r}", pair.settings.name));
         }
-        // Friction is mu times the normal force at every sliding point: the resultant of
-        // mu p t cannot exceed mu N, and the torque is mu N r_eff by definition above.
+    }
+    Ok(solved.modes.iter().map(|m| m.0).collect())
+}
+
+/// Each pair's summary at the equilibrium, once checked that the pads carry the whole load
+/// and that friction is at most mu N: it is mu times the normal force at every sliding
+/// point, so the resultant of mu p t cannot exceed mu N.
+fn carried(model: &Model, solved: &Solved, mu: f64) -> Result<Vec<contact::PairSummary>, String> {
+    let mut normal = 0.0;
+    let mut out = Vec::new();
+    for pair in &model.pairs {
+        let s = contact::summarize(pair, &[], &solved.displacement).map_err(e)?;
+        normal += s.normal_force;
         let f = s.friction_force.iter().map(|c| c * c).sum::<f64>().sqrt();
         if f > mu * s.normal_force * (1.0 + 1e-12) {
             return Err(format!("friction {f} > mu N = {}", mu * s.normal_force));
         }
+        out.push(s);
     }
     let applied = model.applied_load();
     // Newton stops at 1e-10 of the first residual, or at the round-off floor below 1e-8
@@ -203,7 +213,7 @@ fn balance_of(rt: &Runtime, disc: DiscCoupling) -> Result<Vec<f64>, String> {
     if (normal - applied).abs() > 1e-8 * applied {
         return Err(format!("normal force {normal} vs applied load {applied}"));
     }
-    Ok(solved.modes.iter().map(|m| m.0).collect())
+    Ok(out)
 }
 
 /// Mean relative distance from each reference mode to the nearest mode of `other`.
@@ -354,19 +364,7 @@ fn patch_laws(rt: &Runtime) -> Result<Vec<f64>, String> {
     let mu = 0.5;
     let model = tilted(&tiny(mu))?;
     let solved = solve(rt, &model, 6000.0)?;
-    let mut normal = 0.0;
-    for pair in &model.pairs {
-        let s = contact::summarize(pair, &[], &solved.displacement).map_err(e)?;
-        normal += s.normal_force;
-        let f = s.friction_force.iter().map(|c| c * c).sum::<f64>().sqrt();
-        if f > mu * s.normal_force * (1.0 + 1e-12) {
-            return Err(format!("friction {f} > mu N = {}", mu * s.normal_force));
-        }
-    }
-    let applied = model.applied_load();
-    if (normal - applied).abs() > 1e-8 * applied {
-        return Err(format!("normal force {normal} vs applied load {applied}"));
-    }
+    carried(&model, &solved, mu)?;
     let full_model = tiny(0.0);
     let full = solve(rt, &full_model, 6000.0)?;
     let point = solve(rt, &reduced(&full_model, 22, 1.0)?, 6000.0)?;

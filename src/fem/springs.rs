@@ -54,6 +54,25 @@ impl CouplingSpring {
     }
 }
 
+/// The equations of a spring's nodes when this rank owns its first node (so that each
+/// spring is added once), `None` otherwise.
+fn owned_spring(
+    dofs: &DofMap,
+    owned: &std::ops::Range<usize>,
+    mut nodes: impl Iterator<Item = usize> + Clone,
+) -> Option<Vec<PetscInt>> {
+    let first = nodes.clone().next()?;
+    if !owned.contains(&first) {
+        return None;
+    }
+    Some(
+        nodes
+            .by_ref()
+            .flat_map(|n| dofs.node_equations(n).map(|e| e as PetscInt))
+            .collect(),
+    )
+}
+
 /// Adds k a_i a_j I to the (i, j) blocks of every coupling spring whose first node this rank
 /// owns, so each spring counts once (K already assembled: assembles again; the pattern must
 /// hold the couplings). Collective.
@@ -64,17 +83,9 @@ pub fn add_coupling_springs(
 ) -> Result<(), PetscError> {
     let owned = dofs.owned_nodes();
     for s in springs {
-        let Some(&(first, _)) = s.terms.first() else {
+        let Some(idx) = owned_spring(dofs, &owned, s.terms.iter().map(|t| t.0)) else {
             continue;
         };
-        if !owned.contains(&first) {
-            continue;
-        }
-        let idx: Vec<PetscInt> = s
-            .terms
-            .iter()
-            .flat_map(|&(n, _)| dofs.node_equations(n).map(|e| e as PetscInt))
-            .collect();
         let n = idx.len();
         let mut block = vec![0.0; n * n];
         for (a, &(_, ca)) in s.terms.iter().enumerate() {
@@ -131,18 +142,9 @@ pub fn add_scalar_springs(
 ) -> Result<(), PetscError> {
     let owned = dofs.owned_nodes();
     for s in springs {
-        let Some(&(first, _)) = s.terms.first() else {
-            continue;
-        };
-        if !owned.contains(&first) {
-            continue;
+        if let Some(idx) = owned_spring(dofs, &owned, s.terms.iter().map(|t| t.0)) {
+            k.add_block(&idx, &idx, &s.matrix())?;
         }
-        let idx: Vec<PetscInt> = s
-            .terms
-            .iter()
-            .flat_map(|&(n, _)| dofs.node_equations(n).map(|e| e as PetscInt))
-            .collect();
-        k.add_block(&idx, &idx, &s.matrix())?;
     }
     k.assemble()
 }
