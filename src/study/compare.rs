@@ -639,6 +639,24 @@ fn friction_gap(a: &[f64], b: &[f64]) -> f64 {
 /// instabilities one by one in their order let a mu 0.1 instability at 5377 Hz take the other
 /// model's 5259 Hz instability of mu 0.5-0.9 and leave the reference's 5236 Hz instability
 /// of those same values "missed".
+/// The order candidate pairs are taken in: the smaller friction gap first, then those with
+/// a MAC (the higher first), then the nearer in frequency. Lexicographic, so a total order:
+/// falling back to the distance only when one of two lacked a MAC was not transitive, and
+/// sorting a mixed list panicked ("does not correctly implement a total order") on
+/// small-caliper.
+fn candidate_order(
+    x: &(usize, usize, f64, f64, Option<f64>),
+    y: &(usize, usize, f64, f64, Option<f64>),
+) -> std::cmp::Ordering {
+    x.2.total_cmp(&y.2)
+        .then_with(|| x.4.is_none().cmp(&y.4.is_none()))
+        .then_with(|| match (x.4, y.4) {
+            (Some(p), Some(q)) => q.total_cmp(&p),
+            _ => std::cmp::Ordering::Equal,
+        })
+        .then_with(|| x.3.total_cmp(&y.3))
+}
+
 fn match_instabilities(
     reference: &Path,
     r: &Sweep,
@@ -662,12 +680,7 @@ fn match_instabilities(
             }
         }
     }
-    candidates.sort_by(|x, y| {
-        x.2.total_cmp(&y.2).then_with(|| match (x.4, y.4) {
-            (Some(p), Some(q)) => q.total_cmp(&p),
-            _ => x.3.total_cmp(&y.3),
-        })
-    });
+    candidates.sort_by(candidate_order);
     let mut matches = vec![None; r.instabilities.len()];
     let mut used = vec![false; o.instabilities.len()];
     for (a, b, _, d, mac) in candidates {
@@ -1196,6 +1209,33 @@ pub fn run(
 
 #[cfg(test)]
 mod tests {
+    /// The candidates' order is a total order on a mix of pairs with and without a MAC
+    /// (every triple transitive), which the sort needs.
+    #[test]
+    fn candidate_order_is_transitive_with_and_without_macs() {
+        let mut c = Vec::new();
+        for gap in [0.0, 0.1] {
+            for mac in [None, Some(0.3), Some(0.9)] {
+                for d in [0.001, 0.01, 0.02] {
+                    c.push((0, 0, gap, d, mac));
+                }
+            }
+        }
+        use std::cmp::Ordering::*;
+        for x in &c {
+            for y in &c {
+                assert_eq!(candidate_order(x, y), candidate_order(y, x).reverse());
+                for z in &c {
+                    if candidate_order(x, y) != Greater && candidate_order(y, z) != Greater {
+                        assert_ne!(candidate_order(x, z), Greater, "{x:?} {y:?} {z:?}");
+                    }
+                }
+            }
+        }
+        c.sort_by(candidate_order);
+        assert_eq!((c[0].2, c[0].4, c[0].3), (0.0, Some(0.9), 0.001));
+    }
+
     use super::*;
 
     /// A sweep folder with one instability: tracks 0 and 1 at the given frequencies per mu,
