@@ -135,7 +135,7 @@ enum Command {
         #[arg(long, default_value_t = 10_000.0)]
         fmax: f64,
         /// Unstable when Re(lambda) > this * |lambda|.
-        #[arg(long, default_value_t = 1e-6)]
+        #[arg(long, default_value_t = squeal::analysis::cea::DEFAULT_UNSTABLE_THRESHOLD)]
         unstable_threshold: f64,
         /// Eigenpairs asked of SLEPc per shift.
         #[arg(long, default_value_t = 30)]
@@ -302,7 +302,7 @@ enum Command {
         #[arg(long, default_value_t = 6000.0)]
         fmax: f64,
         /// Unstable when Re(lambda) > this * |lambda|.
-        #[arg(long, default_value_t = squeal::analysis::cea::CeaOptions::default().unstable_threshold)]
+        #[arg(long, default_value_t = squeal::analysis::cea::DEFAULT_UNSTABLE_THRESHOLD)]
         unstable_threshold: f64,
         /// k_l of the cubic contact law, N/m (default: each pair's penalty x area).
         #[arg(long)]

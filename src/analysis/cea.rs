@@ -68,7 +68,7 @@ impl Default for CeaOptions {
             max_frequency_hz: 10_000.0,
             modes_per_target: 30,
             tolerance: 1e-10,
-            unstable_threshold: 1e-6,
+            unstable_threshold: DEFAULT_UNSTABLE_THRESHOLD,
             expected_modes: None,
             linear: LinearMethod::default(),
             expected_rigid_modes: None,
@@ -179,6 +179,14 @@ pub fn by_frequency(a: &ComplexMode, b: &ComplexMode) -> std::cmp::Ordering {
         a.frequency_hz.total_cmp(&b.frequency_hz)
     }
 }
+
+/// The default of [`CeaOptions::unstable_threshold`] (and of the study's
+/// `analysis.unstable_threshold`, the commands' `--unstable-threshold`, the tracking's
+/// instabilities): a mode is unstable when its real part exceeds this fraction of |lambda|,
+/// above the round-off of a non-symmetric solve (~1e-10), far below any physical growth rate.
+/// Written once: it was written four times, and `compare` read an older folder's flags as
+/// `real part > 0`.
+pub const DEFAULT_UNSTABLE_THRESHOLD: f64 = 1e-6;
 
 /// Whether lambda is an unstable (growing) mode: its real part exceeds `threshold` times
 /// |lambda| (see [`CeaOptions::unstable_threshold`]). The one decision of "unstable" in

@@ -77,7 +77,7 @@ pub struct InstabilityOptions {
 impl Default for InstabilityOptions {
     fn default() -> Self {
         InstabilityOptions {
-            real_part_tolerance: 1e-6,
+            real_part_tolerance: crate::analysis::cea::DEFAULT_UNSTABLE_THRESHOLD,
             frequency_tolerance: 1e-2,
         }
     }

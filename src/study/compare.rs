@@ -51,14 +51,23 @@ pub enum CompareError {
 struct Mode {
     frequency_hz: f64,
     real_part: f64,
-    /// The CEA's flag (older folders: a positive real part).
+    /// The CEA's flag (older folders: the CEA's own decision with the default threshold).
     #[serde(default)]
     unstable: Option<bool>,
 }
 
 impl Mode {
     fn is_unstable(&self) -> bool {
-        self.unstable.unwrap_or(self.real_part > 0.0)
+        self.unstable.unwrap_or_else(|| {
+            let lambda = num_complex::Complex64::new(
+                self.real_part,
+                2.0 * std::f64::consts::PI * self.frequency_hz,
+            );
+            crate::analysis::cea::is_unstable(
+                lambda,
+                crate::analysis::cea::DEFAULT_UNSTABLE_THRESHOLD,
+            )
+        })
     }
 }
 

@@ -99,7 +99,7 @@ fn one() -> usize {
     1
 }
 fn default_threshold() -> f64 {
-    1e-6
+    crate::analysis::cea::DEFAULT_UNSTABLE_THRESHOLD
 }
 fn default_window() -> usize {
     30
