@@ -20,8 +20,8 @@
 //! - along the normal: zero (the component has no meaning; the tie holds it).
 //!
 //! One node tied to both slopes would couple the pad patch's nodes to the disc patch's in
-//! every tie: the two meshes then meet over whole patches, and on `small-caliper` at 52 nodes
-//! per pad a friction value took 550 s instead of about 40 s (factorisations and CEA shifts).
+//! every tie: the two meshes would then meet over whole patches, a dense block per reduced
+//! contact node in every factorisation, where the translation ties keep them apart.
 //!
 //! The contact point's normal law then integrates the full model's penalty over the node's
 //! share of the pad face at the gap g + theta . xi (theta = e . (u_rp - u_rd) / arm): closed, partly
