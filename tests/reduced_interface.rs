@@ -376,6 +376,17 @@ fn patch_laws(rt: &Runtime) -> Result<Vec<f64>, String> {
     if rt.world().rank() == 0 {
         eprintln!("mu 0, 22 per pad: mean frequency distance {d_point:.4e} point contacts, {d_patch:.4e} patch laws");
     }
+    // A pair whose law the patch does not integrate is refused by name.
+    let mut bilateral = tiny(0.0);
+    for (pair, &swept) in bilateral.pairs.iter_mut().zip(&bilateral.swept) {
+        if swept {
+            pair.settings.separation = false;
+        }
+    }
+    match tilted(&bilateral) {
+        Err(why) if why.contains("a bilateral pair") && why.contains("reduction.tilt") => {}
+        other => return Err(format!("a bilateral pair with patch laws: {other:?}")),
+    }
     if d_patch >= d_point {
         return Err(format!(
             "patch laws {d_patch:e} not closer than point contacts {d_point:e}"

@@ -265,9 +265,9 @@ pub fn evaluate(
         jacobian,
     };
     if let (Some(tilt), Some(law)) = (&point.tilt, &patch) {
-        // The direction the force on the slave changes in with the approach (the friction
-        // of a steady-sliding point follows the normal force; a Coulomb point's tangential
-        // coupling to the tilt is left out).
+        // The direction the force on the slave changes in with the approach: the friction
+        // of a steady-sliding point follows the normal force (patch laws are made for
+        // steady-sliding unilateral pairs only, `reduce::interface`).
         let mut direction = n;
         if let (None, Some(t)) = (&tangential, point.tangent) {
             direction = add(direction, scale(pair.settings.friction, t));
@@ -278,11 +278,13 @@ pub fn evaluate(
 }
 
 impl PointContribution {
-    /// Appends the tilt node's rows and columns of a patch law (see [`Tilt`]): with
-    /// E = sum_j (k_n a_j / 2) max(0, -g_j)^2, g_j = g + theta . xi_j, theta = e . u_r / arm,
-    /// the tilt node's internal force -sum_a M_a e_a / arm, and the couplings
-    /// d r_k / d u_r = c_k d (sum_a k1_a e_a)^T / arm, d r_r / d u_m = c_m (sum_a k1_a e_a) n^T / arm,
-    /// d r_r / d u_r = sum_ab k2_ab e_a e_b^T / arm^2 (symmetric without friction).
+    /// Appends the tilt nodes' rows and columns of a patch law (see [`Tilt`]): with
+    /// E = sum_j (k_n a_j / 2) max(0, -g_j)^2, g_j = g + theta . xi_j,
+    /// theta = e . (u_rp - u_rd) / arm, r_p's internal force -sum_a M_a e_a / arm (r_d's the
+    /// opposite), and, for r_p (r_d with the opposite sign),
+    /// d r_k / d u_rp = c_k d (sum_a k1_a e_a)^T / arm, d r_rp / d u_m = c_m (sum_a k1_a e_a)
+    /// n^T / arm, d r_rp / d u_rp = sum_ab k2_ab e_a e_b^T / arm^2 (symmetric without
+    /// friction).
     fn add_patch(
         &mut self,
         tilt: &Tilt,
@@ -854,7 +856,7 @@ mod tests {
         );
     }
 
-    /// A patch law (a reduced contact with a tilt node): the Jacobian against central
+    /// A patch law (a reduced contact with its tilt nodes): the Jacobian against central
     /// differences with the patch partly closed, symmetric without friction, and the whole
     /// patch closed with no tilt giving the point law k A (-g).
     #[test]

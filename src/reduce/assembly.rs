@@ -94,6 +94,16 @@ impl PairLaw {
     }
 }
 
+/// Whether a cubic law's k_l stays within 1/eps either way of the contact it stands for,
+/// `natural` = penalty x area (a `natural` of 0 has no scale to hold it to). Beyond it
+/// double precision cannot weigh one against the other: more than 1/eps times it and the
+/// assembled stiffness keeps no digit of the structure's; less than eps times it and the
+/// contact is absent in floating point while the static approach f/k_l runs to eps^-1 times
+/// the penalty's (`--k-linear 1e-300` once ended in "dense eigensolver: NoConvergence").
+pub fn k_linear_resolved(k_linear: f64, natural: f64) -> bool {
+    natural <= 0.0 || (f64::EPSILON..=1.0 / f64::EPSILON).contains(&(k_linear / natural))
+}
+
 /// The real root s of the monotone cubic k_nl s^3 + k_l s = f (k_l > 0, k_nl >= 0).
 ///
 /// Newton from the upper bound min(|f| / k_l, (|f| / k_nl)^(1/3)) (each term alone reaches
@@ -264,14 +274,12 @@ impl<'se> Assembly<'se> {
             if !(k_linear > 0.0 && k_linear.is_finite()) {
                 return Err(invalid(format!("k_l = {k_linear} must be finite and > 0")));
             }
-            // Beyond 1/eps either way of the contact it stands for, double precision cannot
-            // weigh one against the other (see the sweep's up-front check).
             let natural = pair.penalty * pair.area;
-            let ratio = k_linear / natural;
-            if natural > 0.0 && !(f64::EPSILON..=1.0 / f64::EPSILON).contains(&ratio) {
+            if !k_linear_resolved(k_linear, natural) {
                 return Err(invalid(format!(
-                    "k_l = {k_linear:e} N/m is {ratio:.1e} times the contact's penalty x area \
-                     ({natural:.3e} N/m), beyond the 1/eps ratio double precision resolves"
+                    "k_l = {k_linear:e} N/m is {:.1e} times the contact's penalty x area \
+                     ({natural:.3e} N/m), beyond the 1/eps ratio double precision resolves",
+                    k_linear / natural
                 )));
             }
             let f = pair.normal_force;
@@ -615,7 +623,7 @@ pub fn dense_cea(
     l.solve_lower_triangular_in_place(at.as_mut());
     let a = at.transpose().to_owned();
     let evd = a.eigen().map_err(|e| {
-        let largest = (0..n)
+        let span = (0..n)
             .flat_map(|i| (0..n).map(move |j| (i, j)))
             .map(|(i, j)| stiffness[(i, j)].abs())
             .filter(|v| *v > 0.0)
@@ -626,7 +634,7 @@ pub fn dense_cea(
             "no convergence ({e:?}) on the reduced model of size {n}, whose stiffness entries \
              span {:.3e} to {:.3e}: a contact stiffness (k_linear, k_cubic) far out of scale \
              with the super-element's?",
-            largest.0, largest.1
+            span.0, span.1
         ))
     })?;
     let values = evd.S().column_vector();

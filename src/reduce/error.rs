@@ -30,6 +30,10 @@ pub enum ReduceError {
         fraction: f64,
         size: f64,
     },
+    /// Patch laws on a pair whose law they do not integrate: they are squeal's unilateral
+    /// penalty with steady sliding, the swept disc/pad pairs' law.
+    #[error("pair '{pair}': patch laws (reduction.tilt) integrate squeal's unilateral penalty with steady sliding, and this pair has {law}")]
+    PatchLaw { pair: String, law: String },
     /// A reduced contact node's tilt law cannot be made (its patch gives no slope).
     #[error("pair '{pair}', reduced contact node {reduced_node}: no tilt law: {why}")]
     Tilt {

@@ -278,6 +278,22 @@ fn disc_patches(
     Ok(couplings)
 }
 
+/// What in `pair`'s law a patch law would not carry: a bilateral pair (every quadrature
+/// point would have to pull), CalculiX's smoothed law, Coulomb stick (its tangential
+/// coupling to the tilt is not in the patch law's tangent).
+fn patch_law_problem(pair: &contact::ContactPair) -> Option<String> {
+    let s = &pair.settings;
+    if !s.separation {
+        Some("no separation (a bilateral pair)".into())
+    } else if s.calculix.is_some() {
+        Some("CalculiX's contact law".into())
+    } else if s.law != contact::FrictionLaw::SteadySliding {
+        Some("Coulomb stick and slip".into())
+    } else {
+        None
+    }
+}
+
 /// Replaces every swept node-to-surface pair of `model` by a reduced interface.
 pub fn reduce_interface(
     model: &Model,
@@ -298,6 +314,14 @@ pub fn reduce_interface(
     for i in swept {
         let pair = &model.pairs[i];
         let name = pair.settings.name.clone();
+        if settings.tilt {
+            patch_law_problem(pair).map_or(Ok(()), |law| {
+                Err(ReduceError::PatchLaw {
+                    pair: name.clone(),
+                    law,
+                })
+            })?;
+        }
         let Some(Some((slave_name, master_name))) = model.pair_surfaces.get(i) else {
             return Err(ReduceError::NotNodeToSurface { pair: name });
         };

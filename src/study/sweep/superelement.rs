@@ -823,12 +823,9 @@ fn empty_report(mu: f64, seconds: f64, peak: f64, peak_sum: f64) -> SweepPointRe
     }
 }
 
-/// Refuses a cubic law's k_l that double precision cannot weigh against the contact it
-/// replaces (each reduced contact's penalty x area, the default): more than 1/eps times it and
-/// the assembled stiffness keeps no digit of the structure's; less than eps times it and the
-/// contact is absent in floating point while the static approach f/k_l runs to eps^-1 times
-/// the penalty's (`--k-linear 1e-300` once ended in "dense eigensolver: NoConvergence" after
-/// the whole reduced-interface static). Checked before any work.
+/// Refuses, before any work, a cubic law's k_l that double precision cannot weigh against
+/// the reduced contacts it replaces ([`crate::reduce::assembly::k_linear_resolved`], which
+/// the assembly checks again per pair).
 fn check_k_linear(model: &Model, swept: &[usize], k_linear: f64) -> Result<(), StudyError> {
     let bad = |why: String| StudyError::BadFlag {
         flag: "--k-linear (reduction.k_linear)",
@@ -850,13 +847,14 @@ fn check_k_linear(model: &Model, swept: &[usize], k_linear: f64) -> Result<(), S
     if hi == 0.0 {
         return Ok(());
     }
-    let eps = f64::EPSILON;
-    if k_linear < eps * hi || k_linear > lo / eps {
+    // The smallest and largest are the first to fall outside.
+    let resolved = crate::reduce::assembly::k_linear_resolved;
+    if !(resolved(k_linear, lo) && resolved(k_linear, hi)) {
         return Err(bad(format!(
             "k_l = {k_linear:e} N/m against the reduced contacts' penalty x area of \
              {lo:.3e} ... {hi:.3e} N/m: outside the 1/eps = {:.1e} ratio double precision \
              resolves either way (leave it out for the penalty x area)",
-            1.0 / eps
+            1.0 / f64::EPSILON
         )));
     }
     Ok(())
