@@ -350,7 +350,8 @@ struct InterfaceFlags {
     area_weighting: bool,
     /// Whether each reduced contact carries its patch law: the full model's penalty over its
     /// share of the pad face, tilt included (study key reduction.tilt; squeal's addition to
-    /// the paper's point contacts; not with super-elements yet).
+    /// the paper's point contacts; super-elements carry it too, without --k-linear or
+    /// --k-cubic).
     #[arg(long)]
     tilt: Option<bool>,
 }

@@ -3,8 +3,9 @@
 //! cubic springs, its non-linear static at any friction value, its linearisation and the
 //! dense complex eigenvalue analysis.
 //!
-//! Per boundary pair k, with u_p = q[6k..6k+3] (pad contact node), u_d = q[6k+3..6k+6] (disc
-//! node), n the disc normal (out of the disc, towards the pad) and t the sliding direction:
+//! Per boundary pair k, from its offset o_k, with u_p = q[o_k..o_k+3] (pad contact node),
+//! u_d = q[o_k+3..o_k+6] (disc node), n the disc normal (out of the disc, towards the pad) and
+//! t the sliding direction:
 //!
 //! ```text
 //!   g  = g0 + n . (u_p - u_d)            geometric gap, negative = penetration
@@ -29,10 +30,22 @@
 //! keeps its geometric gap (xi = 0): it stays open at q_s and closes where the full model's
 //! would. (Were its geometric approach d_s >= 0, which a consistent full model cannot give
 //! with F_nl = 0 except by exactly touching, it is put exactly at contact, s = 0.)
+//!
+//! A pair with a patch law ([`super::superelement::BoundaryTilt`], squeal's addition) has its
+//! tilt nodes r_p, r_d at q[o_k+6..o_k+12] and carries the reduced-interface model's own law,
+//! [`crate::contact::Tilt`]: each quadrature point of its share k_n a max(0, -(g + theta .
+//! xi)). It is evaluated by the full model's own code ([`contact::evaluate`] on the pair's
+//! four boundary nodes), so the dense model and the reduced-interface model cannot disagree
+//! on it, and no force matching is needed: the law is the one F_nl was computed with, at the
+//! same coordinates, so R(q_s) = 0 holds as it is. The cubic law's k_l and k_nl stand for a
+//! point contact's stiffness and are refused with it.
 
 use super::superelement::{BoundaryPair, SuperElement};
 use crate::analysis::cea::{by_frequency, lambda_of, mode_from_lambda, CeaOptions, ComplexMode};
 use crate::analysis::rigid;
+use crate::contact::{
+    self, ContactPair, ContactPoint, PairSettings, PointContribution, PointState,
+};
 use crate::vector3::{add, dot, scale, sub};
 use faer::linalg::solvers::Solve;
 use faer::{Mat, MatRef, Side};
@@ -219,6 +232,49 @@ pub struct ReducedStatic {
 pub struct Assembly<'se> {
     se: &'se SuperElement,
     laws: Vec<PairLaw>,
+    /// Each boundary pair's first coordinate in q.
+    offsets: Vec<usize>,
+    /// A patch-law pair's contact as the reduced-interface model has it, on local nodes 0
+    /// (c), 1 (d), 2 (r_p), 3 (r_d); `None`: a point contact with the cubic law.
+    patches: Vec<Option<ContactPair>>,
+}
+
+/// The local contact pair of a boundary pair with a patch law (see [`Assembly::patches`]).
+fn patch_pair(pair: &BoundaryPair) -> Result<Option<ContactPair>, String> {
+    let Some(tilt) = &pair.tilt else {
+        return Ok(None);
+    };
+    let settings = PairSettings {
+        name: pair.pair.clone(),
+        friction: 0.0,
+        penalty: Some(pair.penalty),
+        separation: pair.separation,
+        // The point's own tangent below is what the law uses.
+        sliding: contact::SlidingDirection::None,
+        law: contact::FrictionLaw::SteadySliding,
+        calculix: None,
+    };
+    let point = ContactPoint {
+        slave: vec![(0, 1.0)],
+        master: vec![(1, 1.0)],
+        normal: pair.normal,
+        initial_gap: pair.initial_gap,
+        area: pair.area,
+        tangent: pair.sliding,
+        position: pair.pad_position,
+        slave_node: 0,
+        master_face: None,
+        tilt: Some(contact::Tilt {
+            nodes: [2, 3],
+            axes: tilt.axes,
+            patch: tilt.patch.clone(),
+            arm: tilt.arm,
+            penalty: pair.penalty,
+        }),
+    };
+    contact::node_to_node(settings, pair.penalty, vec![point])
+        .map(Some)
+        .map_err(|e| e.to_string())
 }
 
 /// n + mu t, the direction of a pair's force on the pad.
@@ -263,13 +319,24 @@ impl<'se> Assembly<'se> {
                 contact.k_cubic
             )));
         }
+        let offsets = se.boundary_offsets();
         let mut laws = Vec::with_capacity(se.header.boundary.len());
+        let mut patches = Vec::with_capacity(se.header.boundary.len());
         for (index, pair) in se.header.boundary.iter().enumerate() {
             let invalid = |why: String| AssemblyError::InvalidPair {
                 index,
                 pair: pair.pair.clone(),
                 why,
             };
+            let patch = patch_pair(pair).map_err(&invalid)?;
+            if patch.is_some() && *contact != CubicContact::default() {
+                return Err(AssemblyError::InvalidContact(format!(
+                    "boundary pair {index} (pair '{}') carries a patch law (reduction.tilt), \
+                     the reduced-interface model's penalty over its share: k_linear and \
+                     k_cubic are a point contact's and cannot be set with it",
+                    pair.pair
+                )));
+            }
             let k_linear = contact.k_linear.unwrap_or(pair.penalty * pair.area);
             if !(k_linear > 0.0 && k_linear.is_finite()) {
                 return Err(invalid(format!("k_l = {k_linear} must be finite and > 0")));
@@ -288,11 +355,15 @@ impl<'se> Assembly<'se> {
                     "normal force {f} (a pair that may open carries a finite force >= 0)"
                 )));
             }
-            let d = geometric_approach(pair, &se.equilibrium[6 * index..6 * index + 6]);
+            let at = offsets[index];
+            let d = geometric_approach(pair, &se.equilibrium[at..at + 6]);
             if !d.is_finite() {
                 return Err(invalid("non-finite gap at the equilibrium".into()));
             }
-            let s = if pair.separation && f == 0.0 {
+            // A patch law is the reduced-interface model's own: no offset to match.
+            let s = if patch.is_some() {
+                d
+            } else if pair.separation && f == 0.0 {
                 d.min(0.0)
             } else {
                 cubic_root(k_linear, contact.k_cubic, f)
@@ -303,8 +374,14 @@ impl<'se> Assembly<'se> {
                 offset: s - d,
                 separation: pair.separation,
             });
+            patches.push(patch);
         }
-        let assembly = Assembly { se, laws };
+        let assembly = Assembly {
+            se,
+            laws,
+            offsets,
+            patches,
+        };
         let mismatch = assembly.force_mismatch();
         if mismatch > 1e-12 {
             // Only when a pair's geometric approach dwarfs its matched one (|d_s| >> |s|):
@@ -341,27 +418,48 @@ impl<'se> Assembly<'se> {
         &self.laws
     }
 
-    /// The matched approach s = d + xi of every pair for q.
-    fn approaches<'a>(&'a self, q: &'a [f64]) -> impl Iterator<Item = f64> + 'a {
-        self.se
-            .header
-            .boundary
-            .iter()
-            .zip(&self.laws)
-            .enumerate()
-            .map(move |(k, (pair, law))| {
-                geometric_approach(pair, &q[6 * k..6 * k + 6]) + law.offset
-            })
+    /// The matched approach s = d + xi of pair k for q.
+    fn approach(&self, k: usize, q: &[f64]) -> f64 {
+        let at = self.offsets[k];
+        geometric_approach(&self.se.header.boundary[k], &q[at..at + 6]) + self.laws[k].offset
+    }
+
+    /// A patch-law pair's state and, when closed, its contribution on its 12 coordinates,
+    /// by the full model's code; `None` for a point contact.
+    fn patch_law(
+        &self,
+        k: usize,
+        q: &[f64],
+        friction: f64,
+    ) -> Option<(PointState, Option<PointContribution>)> {
+        let local = self.patches[k].as_ref()?;
+        let at = self.offsets[k];
+        let u: Vec<[f64; 3]> = (0..4)
+            .map(|n| [0, 1, 2].map(|i| q[at + 3 * n + i]))
+            .collect();
+        let mut pair = local.clone();
+        pair.settings.friction = friction;
+        // The local pair's nodes are 0..4 and u holds four: the lookup cannot fail.
+        contact::evaluate(&pair, &pair.points[0], [0.0; 3], &u).ok()
     }
 
     /// Every pair's state for q.
     pub fn pair_states(&self, q: &[f64]) -> Vec<PairState> {
-        self.approaches(q)
-            .zip(&self.laws)
-            .map(|(s, law)| PairState {
-                approach: s,
-                force: law.force(s),
-                closed: law.closed(s),
+        (0..self.laws.len())
+            .map(|k| match self.patch_law(k, q, 0.0) {
+                Some((state, _)) => PairState {
+                    approach: -state.gap,
+                    force: state.normal_force,
+                    closed: state.closed,
+                },
+                None => {
+                    let (s, law) = (self.approach(k, q), &self.laws[k]);
+                    PairState {
+                        approach: s,
+                        force: law.force(s),
+                        closed: law.closed(s),
+                    }
+                }
             })
             .collect()
     }
@@ -377,23 +475,45 @@ impl<'se> Assembly<'se> {
                 }
             }
         }
-        for (k, (s, law)) in self.approaches(q).zip(&self.laws).enumerate() {
-            let force = law.force(s);
+        for (k, law) in self.laws.iter().enumerate() {
+            let at = self.offsets[k];
+            if let Some((_, contribution)) = self.patch_law(k, q, friction) {
+                if let Some(c) = contribution {
+                    for (ri, ci) in r[at..at + 12].iter_mut().zip(&c.residual) {
+                        *ri += ci;
+                    }
+                }
+                continue;
+            }
+            let force = law.force(self.approach(k, q));
             if force != 0.0 {
                 let f = scale(force, direction(&self.se.header.boundary[k], friction));
                 for i in 0..3 {
-                    r[6 * k + i] -= f[i];
-                    r[6 * k + 3 + i] += f[i];
+                    r[at + i] -= f[i];
+                    r[at + 3 + i] += f[i];
                 }
             }
         }
         r
     }
 
-    /// dR/dq: K_r plus, per closed pair, c_a c_b F'(s) (n + mu t) n^T.
+    /// dR/dq: K_r plus, per closed pair, c_a c_b F'(s) (n + mu t) n^T (a patch law's:
+    /// [`contact::evaluate`]'s 12 x 12 block).
     pub fn jacobian(&self, q: &[f64], friction: f64) -> Mat<f64> {
         let mut j = self.se.stiffness.clone();
-        for (k, (s, law)) in self.approaches(q).zip(&self.laws).enumerate() {
+        for (k, law) in self.laws.iter().enumerate() {
+            let at = self.offsets[k];
+            if let Some((_, contribution)) = self.patch_law(k, q, friction) {
+                if let Some(c) = contribution {
+                    for r in 0..12 {
+                        for col in 0..12 {
+                            j[(at + r, at + col)] += c.jacobian[r * 12 + col];
+                        }
+                    }
+                }
+                continue;
+            }
+            let s = self.approach(k, q);
             if !law.closed(s) {
                 continue;
             }
@@ -404,7 +524,7 @@ impl<'se> Assembly<'se> {
                     let c = kt * (ca * cb);
                     for r in 0..3 {
                         for col in 0..3 {
-                            j[(6 * k + 3 * a + r, 6 * k + 3 * b + col)] += c * (dir[r] * n[col]);
+                            j[(at + 3 * a + r, at + 3 * b + col)] += c * (dir[r] * n[col]);
                         }
                     }
                 }
@@ -708,7 +828,7 @@ pub fn dense_cea(
 mod tests {
     use super::*;
     use crate::contact::{self, ContactPoint, PairSettings, SlidingDirection};
-    use crate::reduce::superelement::SuperElementHeader;
+    use crate::reduce::superelement::{BoundaryTilt, SuperElementHeader};
 
     /// Deterministic numbers in [-1, 1).
     struct Lcg(u64);
@@ -833,6 +953,7 @@ mod tests {
                 penalty: 1e12,
                 separation,
                 normal_force: 0.0,
+                tilt: None,
             });
         }
         let mut se = SuperElement {
@@ -1008,6 +1129,135 @@ mod tests {
         assert!(worst <= 1e-6 * biggest, "worst {worst:e} of {biggest:e}");
         // Friction makes it unsymmetric in the closed pair's block.
         assert!((j[(0, 2)] - j[(2, 0)]).abs() > 1e-3 * biggest);
+    }
+
+    /// A point contact (6 coordinates) then a patch-law pair (12: c, d, r_p, r_d), 2 modes +
+    /// the static correction: size 21. The patch (4 x 4 quadrature points over 1 cm^2) is
+    /// pressed 1e-6 m at its centre and tilted 5e-4 rad along e_1, so that its points at
+    /// xi_1 > 2 mm are open: partly closed at q_s. The load makes q_s an equilibrium at MU_SE.
+    fn synthetic_patch() -> SuperElement {
+        let mut rng = Lcg(7);
+        let size = 21;
+        let stiffness = spd(size, &mut rng, 1e8, 1.0);
+        let mass = spd(size, &mut rng, 0.1, 0.5);
+        let mut equilibrium: Vec<f64> = (0..size).map(|_| 1e-7 * rng.next()).collect();
+        let (arm, theta) = (2e-3, 5e-4);
+        let axes = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+        // u_rp - u_rd = arm theta e_1.
+        equilibrium[6 + 9] = equilibrium[6 + 6] - arm * theta;
+        let step = 2.5e-3;
+        let patch: Vec<([f64; 2], f64)> = (0..16)
+            .map(|j| {
+                let at = |i: usize| (i as f64 - 1.5) * step;
+                ([at(j % 4), at(j / 4)], 1e-4 / 16.0)
+            })
+            .collect();
+        let pair = |k: usize, tilt: Option<BoundaryTilt>, gap: f64, q: &[f64]| {
+            let normal = [0.0, 0.0, 1.0];
+            let rel = sub([q[0], q[1], q[2]], [q[3], q[4], q[5]]);
+            BoundaryPair {
+                pair: format!("pad{k}"),
+                pad_position: [0.1 * k as f64, 0.0, 0.0],
+                disc_position: [0.1 * k as f64, 0.0, -0.001],
+                normal,
+                sliding: Some([0.0, 1.0, 0.0]),
+                initial_gap: gap - dot(normal, rel),
+                area: 1e-4,
+                penalty: 1e12,
+                separation: true,
+                normal_force: 0.0,
+                tilt,
+            }
+        };
+        let boundary = vec![
+            pair(0, None, -2e-6, &equilibrium[0..6]),
+            pair(
+                1,
+                Some(BoundaryTilt { axes, patch, arm }),
+                -1e-6,
+                &equilibrium[6..12],
+            ),
+        ];
+        let mut se = SuperElement {
+            header: SuperElementHeader {
+                units: "SI".into(),
+                friction: MU_SE,
+                cutoff_hz: 2e4,
+                modes: 2,
+                size,
+                other_contacts: Vec::new(),
+                mesh_hash: "mesh".into(),
+                study_hash: "study".into(),
+                boundary,
+            },
+            stiffness,
+            mass,
+            load: vec![0.0; size],
+            equilibrium,
+        };
+        // The point contact's force is k A d; the patch law needs none (it is the law).
+        se.header.boundary[0].normal_force = 1e12 * 1e-4 * 2e-6;
+        let unloaded = se.clone();
+        let asm = Assembly::new(&unloaded, &CubicContact::default()).unwrap();
+        se.header.boundary[1].normal_force = asm.pair_states(&unloaded.equilibrium)[1].force;
+        se.load = asm.residual(&unloaded.equilibrium, MU_SE);
+        se
+    }
+
+    #[test]
+    fn a_patch_law_pair_takes_twelve_coordinates_and_its_jacobian_is_the_derivative() {
+        let se = synthetic_patch();
+        assert_eq!(se.boundary_offsets(), vec![0, 6]);
+        assert_eq!(se.boundary_size(), 18);
+        let asm = Assembly::new(&se, &CubicContact::default()).unwrap();
+        // Partly closed at q_s: theta = -5e-4 puts the gap at -1e-6 + 5e-4 * 3.75e-3 > 0 on
+        // the column xi_1 = -3.75 mm, which is open; the other three columns carry
+        // k a (0.375 + 1.625 + 2.875) 1e-6 each 4 times, k a = 1e12 * 1e-4 / 16: 121.875 N,
+        // where the whole patch closed would carry k A d = 100 N.
+        let states = asm.pair_states(&se.equilibrium);
+        assert!(
+            states[1].closed && (states[1].force - 121.875).abs() <= 1e-12 * 121.875,
+            "{states:?}"
+        );
+        assert!(states[0].closed && (states[0].force - 200.0).abs() <= 1e-12 * 200.0);
+        assert!(asm.equilibrium_residual(MU_SE) <= 1e-12);
+        // Central differences as in the point-contact test; the patch's closed set does not
+        // change within h = 1e-12 m (its nearest point is 2.5e-7 m from g = 0).
+        for mu in [MU_SE, 0.7] {
+            let q = &se.equilibrium;
+            let j = asm.jacobian(q, mu);
+            let h = 1e-12;
+            let (mut biggest, mut worst) = (0.0f64, 0.0f64);
+            for c in 0..se.header.size {
+                let (mut qp, mut qm) = (q.clone(), q.clone());
+                qp[c] += h;
+                qm[c] -= h;
+                let (rp, rm) = (asm.residual(&qp, mu), asm.residual(&qm, mu));
+                for i in 0..se.header.size {
+                    let fd = (rp[i] - rm[i]) / (2.0 * h);
+                    worst = worst.max((fd - j[(i, c)]).abs());
+                    biggest = biggest.max(j[(i, c)].abs());
+                }
+            }
+            assert!(
+                worst <= 1e-6 * biggest,
+                "mu {mu}: worst {worst:e} of {biggest:e}"
+            );
+            // The tilt nodes are coupled to the contact nodes (k1 != 0: partly closed).
+            assert!(j[(6 + 2, 6 + 6)].abs() > 1e-6 * biggest, "{}", j[(8, 12)]);
+        }
+        // Newton at other friction values.
+        for mu in [0.1, 0.9] {
+            let st = asm.solve_static(mu, &StaticOptions::default()).unwrap();
+            assert!(asm.relative_residual(&st.q, mu) <= 1e-10, "{st:?}");
+        }
+        // A cubic law is a point contact's: refused with a patch law, by pair.
+        let cubic = CubicContact {
+            k_linear: None,
+            k_cubic: 1e17,
+        };
+        let e = Assembly::new(&se, &cubic).unwrap_err().to_string();
+        assert!(e.contains("pad1") && e.contains("patch law"), "{e}");
     }
 
     #[test]

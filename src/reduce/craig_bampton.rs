@@ -29,7 +29,7 @@
 //! M-norm residual is logged so that it can be seen.
 
 use super::interface::ReducedInterface;
-use super::superelement::{BoundaryPair, SuperElement, SuperElementHeader};
+use super::superelement::{BoundaryPair, BoundaryTilt, SuperElement, SuperElementHeader};
 use crate::analysis::cea::{self, CeaError, CeaOptions};
 use crate::analysis::modes::{self, ModeBand, ModesError, ModesOptions};
 use crate::analysis::statics::{self, Configuration, StaticsError};
@@ -49,12 +49,6 @@ pub enum SuperElementError {
     PairIndex { index: usize, pairs: usize },
     #[error("no swept pair given: a super-element needs a reduced interface to keep")]
     NoSweptPair,
-    /// A reduced interface with patch laws: its tilt nodes are not on the boundary yet.
-    #[error(
-        "pair '{pair}' carries patch laws (reduction.tilt, --tilt): super-elements of it are \
-         not built yet, their boundary would need each reduced contact's tilt node"
-    )]
-    Tilted { pair: String },
     #[error("contact pair '{pair}' was not reduced (it is no pad of the reduced interface)")]
     NotReduced { pair: String },
     #[error("contact pair '{pair}', point {point}: not the node-to-node contact c_k/d_k of its reduced pad")]
@@ -84,7 +78,7 @@ pub enum SuperElementError {
 /// The boundary in super-element order: for each swept pair's point, (pair, point, c, d).
 struct Boundary {
     points: Vec<(usize, usize, usize, usize)>,
-    /// The equations in super-element order (6 per point).
+    /// The equations in super-element order (6 per point, 12 with a patch law's tilt nodes).
     equations: Vec<usize>,
 }
 
@@ -102,11 +96,6 @@ fn boundary(
         return Err(SuperElementError::PairIndex { index, pairs });
     }
     for &i in swept {
-        if model.pairs[i].points.iter().any(|p| p.tilt.is_some()) {
-            return Err(SuperElementError::Tilted {
-                pair: model.pairs[i].settings.name.clone(),
-            });
-        }
         let name = &model.pairs[i].settings.name;
         if !reduced.pads.iter().any(|p| &p.pair == name) {
             return Err(SuperElementError::NotReduced { pair: name.clone() });
@@ -140,9 +129,11 @@ fn boundary(
         }
     }
     let dofs = &operators.dofs;
-    let mut equations = Vec::with_capacity(6 * points.len());
-    for &(_, _, c, d) in &points {
-        for node in [c, d] {
+    let mut equations = Vec::with_capacity(12 * points.len());
+    for &(i, k, c, d) in &points {
+        // A patch law's tilt nodes follow c and d (the order of `super::superelement`).
+        let tilt = model.pairs[i].points[k].tilt.as_ref().map(|t| t.nodes);
+        for node in [c, d].into_iter().chain(tilt.into_iter().flatten()) {
             for component in 0..3 {
                 equations.push(
                     dofs.equation(node, component)
@@ -432,6 +423,11 @@ fn build<'rt>(
             penalty: pair.penalty,
             separation: pair.settings.separation,
             normal_force: state.normal_force,
+            tilt: point.tilt.as_ref().map(|t| BoundaryTilt {
+                axes: t.axes,
+                patch: t.patch.clone(),
+                arm: t.arm,
+            }),
         });
     }
     let other_contacts = kept

@@ -5,9 +5,11 @@
 //! can be saved and used without it.
 //!
 //! Reduced coordinates q, in this order:
-//! - boundary: for each node-to-node pair k (pads in order, nodes in grid order), the three
-//!   displacement components of the pad contact node c_k, then of the disc node d_k:
-//!   q[6k..6k+3] = u(c_k), q[6k+3..6k+6] = u(d_k);
+//! - boundary: for each node-to-node pair k (pads in order, nodes in grid order), from its
+//!   offset o_k ([`SuperElement::boundary_offsets`]), the three displacement components of
+//!   the pad contact node c_k, then of the disc node d_k: q[o_k..o_k+3] = u(c_k),
+//!   q[o_k+3..o_k+6] = u(d_k); a pair with a patch law ([`BoundaryTilt`]) then has its tilt
+//!   nodes: q[o_k+6..o_k+9] = u(r_p), q[o_k+9..o_k+12] = u(r_d). 6 or 12 per pair;
 //! - then the fixed-interface modes (mass-normalised, ascending), and last the load's static
 //!   correction (the interior response to the external load with the boundary held), which
 //!   puts the super-element's own equilibrium exactly in the span of T so that eq. 5 holds
@@ -39,6 +41,34 @@ pub struct BoundaryPair {
     /// Normal contact force of the full (penalty) law at the super-element's equilibrium,
     /// N (>= 0; 0 when open): F_nl of eq. 8.
     pub normal_force: f64,
+    /// The patch law of a reduced interface with tilt nodes ([`crate::contact::Tilt`]):
+    /// the pair's law is then the reduced-interface model's own, and its tilt nodes are on
+    /// the boundary. `None`: a point contact (the paper's).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tilt: Option<BoundaryTilt>,
+}
+
+/// A boundary pair's patch law without its nodes (they are the pair's boundary coordinates
+/// 6..12): what [`crate::contact::Tilt`] holds besides them.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct BoundaryTilt {
+    /// Unit in-plane axes e_1, e_2 (orthogonal to the normal).
+    pub axes: [[f64; 3]; 2],
+    /// The share of the pad face: (offset along the axes, area) per quadrature point.
+    pub patch: Vec<([f64; 2], f64)>,
+    /// theta = e . (u_rp - u_rd) / arm.
+    pub arm: f64,
+}
+
+impl BoundaryPair {
+    /// Its reduced coordinates: 6 (c, d), or 12 with tilt nodes (c, d, r_p, r_d).
+    pub fn width(&self) -> usize {
+        if self.tilt.is_some() {
+            12
+        } else {
+            6
+        }
+    }
 }
 
 /// Where a super-element came from and what it holds (the file's header).
@@ -54,7 +84,8 @@ pub struct SuperElementHeader {
     /// contact, the M_II-orthonormal span of the real and imaginary parts of the right
     /// eigenvectors of the unsymmetric (K_II, M_II)).
     pub modes: usize,
-    /// Reduced size: 6 per boundary pair + modes + 1 (the static correction).
+    /// Reduced size: 6 per boundary pair (12 with a patch law) + modes + 1 (the static
+    /// correction).
     pub size: usize,
     /// State of every other (non-swept) contact pair's points at the equilibrium: per pair,
     /// its name and each point's state, open, stick or slip (a change means a new
@@ -83,6 +114,30 @@ pub struct SuperElement {
 impl SuperElement {
     /// Index of the first modal coordinate (after the boundary).
     pub fn boundary_size(&self) -> usize {
-        6 * self.header.boundary.len()
+        self.header.boundary_size()
+    }
+
+    /// Where each boundary pair's coordinates start in q.
+    pub fn boundary_offsets(&self) -> Vec<usize> {
+        self.header.boundary_offsets()
+    }
+}
+
+impl SuperElementHeader {
+    /// The boundary's coordinates: the pairs' widths added up.
+    pub fn boundary_size(&self) -> usize {
+        self.boundary.iter().map(BoundaryPair::width).sum()
+    }
+
+    /// Where each boundary pair's coordinates start in q.
+    pub fn boundary_offsets(&self) -> Vec<usize> {
+        self.boundary
+            .iter()
+            .scan(0, |at, b| {
+                let start = *at;
+                *at += b.width();
+                Some(start)
+            })
+            .collect()
     }
 }

@@ -154,7 +154,7 @@ fn check_shapes(se: &SuperElement) -> Result<(), String> {
             ));
         }
     }
-    let expected = 6 * se.header.boundary.len() + se.header.modes + 1;
+    let expected = se.header.boundary_size() + se.header.modes + 1;
     if n != expected {
         return Err(format!(
             "size {n}, but {} boundary pairs and {} modes make {expected}",
@@ -207,6 +207,32 @@ fn check_values(h: &crate::reduce::superelement::SuperElementHeader) -> Result<(
         let finite = |x: [f64; 3]| x.iter().all(|c| c.is_finite());
         if !finite(b.pad_position) || !finite(b.disc_position) {
             return bad("a position is not finite".into());
+        }
+        if let Some(t) = &b.tilt {
+            let in_plane = t
+                .axes
+                .iter()
+                .all(|&e| unit(e) && crate::vector3::dot(e, b.normal).abs() <= 1e-9)
+                && crate::vector3::dot(t.axes[0], t.axes[1]).abs() <= 1e-9;
+            if !in_plane {
+                return bad("its patch's axes are not unit vectors in the contact plane".into());
+            }
+            if !positive(t.arm) {
+                return bad(format!("its patch's arm {} must be > 0", t.arm));
+            }
+            let area: f64 = t.patch.iter().map(|p| p.1).sum();
+            let sane = t
+                .patch
+                .iter()
+                .all(|(xi, a)| xi.iter().all(|x| x.is_finite()) && a.is_finite() && *a >= 0.0);
+            // The quadrature points hold the node's area (grid.rs builds them so).
+            if !sane || (area - b.area).abs() > 1e-9 * b.area {
+                return bad(format!(
+                    "its patch's {} quadrature points hold an area of {area:e}, the pair {:e}",
+                    t.patch.len(),
+                    b.area
+                ));
+            }
         }
     }
     Ok(())
@@ -441,6 +467,7 @@ mod tests {
             penalty: 1.7e13,
             separation: k == 0,
             normal_force: 123.456789,
+            tilt: None,
         };
         SuperElement {
             header: SuperElementHeader {

@@ -17,7 +17,13 @@
 //!   the weighted least-squares fit of a plane to the patch's normal displacements with the
 //!   distributing coupling's weights (exact for a linear field, blind to the mean, which the
 //!   translation tie holds);
-//! - along the normal: zero (the component has no meaning; the tie holds it).
+//! - along the normal: `arm` times its patch's in-plane twist, the weighted least-squares
+//!   rotation about the normal (the third rotation of an Abaqus coupling's reference node).
+//!   The law does not use it. It is tied to the patch rather than to the ground so that it
+//!   has a mass in a super-element, where the tilt nodes are boundary coordinates: tied to
+//!   the ground, its constraint mode is zero, M_r is singular and the dense CEA's Cholesky
+//!   fails. In the full-size model the component is massless and tied by one spring, so it
+//!   carries no force either way.
 //!
 //! One node tied to both slopes would couple the pad patch's nodes to the disc patch's in
 //! every tie: the two meshes would then meet over whole patches, a dense block per reduced
@@ -123,6 +129,42 @@ pub fn slope_terms(
     Some([terms(0), terms(1)])
 }
 
+/// The coefficients of the weighted least-squares twist of a patch about its normal `n`
+/// (`(position, node, weight)`): twist = sum g_j . u_j with g_j = w_j (n x xi_j) / S,
+/// xi_j the in-plane offsets from the weighted centre and S = sum w_j |xi_j|^2. Exact for a
+/// rigid rotation about n (the weighted centre cancels any translation); `None` when S = 0.
+pub fn twist_terms(patch: &[([f64; 3], usize, f64)], n: [f64; 3]) -> Option<SlopeTerms> {
+    let total: f64 = patch.iter().map(|p| p.2).sum();
+    if total.is_nan() || total <= 0.0 {
+        return None;
+    }
+    let centre = patch.iter().fold([0.0; 3], |c, &(x, _, w)| {
+        crate::vector3::add(c, scale(w / total, x))
+    });
+    let offsets: Vec<[f64; 3]> = patch
+        .iter()
+        .map(|&(x, _, _)| {
+            let d = sub(x, centre);
+            sub(d, scale(dot(d, n), n))
+        })
+        .collect();
+    let spread: f64 = offsets
+        .iter()
+        .zip(patch)
+        .map(|(xi, p)| p.2 * dot(*xi, *xi))
+        .sum();
+    if spread.is_nan() || spread <= 0.0 {
+        return None;
+    }
+    Some(
+        offsets
+            .iter()
+            .zip(patch)
+            .map(|(xi, &(_, node, w))| (node, scale(w / spread, cross(n, *xi))))
+            .collect(),
+    )
+}
+
 /// The tilt of reduced node `reduced_node` of pair `pair`: tilt nodes `nodes` (pad side,
 /// disc side; each tied to its own patch only, as the translation's c and d are, so that
 /// the pad and disc meshes meet only at the contact point: one spring over both patches
@@ -166,20 +208,23 @@ pub fn node_tilt(
         })
     };
     let (pad_slope, disc_slope) = (side(pad, "pad")?, side(disc, "disc")?);
+    // A patch with a slope has a spread, so a twist.
+    let twist = |patch: &[([f64; 3], usize, f64)], which: &str| {
+        twist_terms(patch, n)
+            .ok_or_else(|| invalid(format!("the {which} patch has no in-plane spread")))
+    };
+    let (pad_twist, disc_twist) = (twist(pad, "pad")?, twist(disc, "disc")?);
     let mut ties = Vec::with_capacity(6);
-    for (node, slope) in nodes.into_iter().zip([&pad_slope, &disc_slope]) {
-        for a in 0..2 {
-            let mut terms = vec![(node, e[a])];
-            terms.extend(slope[a].iter().map(|&(j, g)| (j, scale(-arm, g))));
+    let sides = [(&pad_slope, &pad_twist), (&disc_slope, &disc_twist)];
+    for (node, (slope, twist)) in nodes.into_iter().zip(sides) {
+        for (axis, terms) in [(e[0], &slope[0]), (e[1], &slope[1]), (n, twist)] {
+            let mut spring = vec![(node, axis)];
+            spring.extend(terms.iter().map(|&(j, g)| (j, scale(-arm, g))));
             ties.push(ScalarSpring {
-                terms,
+                terms: spring,
                 stiffness: tie_stiffness,
             });
         }
-        ties.push(ScalarSpring {
-            terms: vec![(node, n)],
-            stiffness: tie_stiffness,
-        });
     }
     // The share's offsets, in the grid plane's axes, along e.
     let patch = share
@@ -253,5 +298,38 @@ mod tests {
         let line: Vec<([f64; 3], usize, f64)> =
             (0..4).map(|j| (scale(j as f64, e[0]), j, 0.25)).collect();
         assert!(slope_terms(&line, e, n).is_none());
+    }
+
+    /// The twist terms read a rigid rotation about the normal exactly, whatever the
+    /// translation and the normal field added to it; a single node has no twist.
+    #[test]
+    fn twist_terms_are_exact_for_a_rigid_rotation() {
+        let n = normalize([0.1, -0.2, 1.0]).unwrap();
+        let e = axes([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]], n).unwrap();
+        let patch: Vec<([f64; 3], usize, f64)> = [[0.0, 0.0], [1.0, 0.2], [0.3, 1.1], [-0.8, 0.4]]
+            .iter()
+            .enumerate()
+            .map(|(j, p)| {
+                let x = crate::vector3::add(scale(p[0], e[0]), scale(p[1], e[1]));
+                (
+                    crate::vector3::add(x, [5.0, -2.0, 0.5]),
+                    j,
+                    0.1 + 0.05 * j as f64,
+                )
+            })
+            .collect();
+        let terms = twist_terms(&patch, n).unwrap();
+        let (omega, shift) = (0.37, [0.2, -0.1, 0.05]);
+        let u: Vec<[f64; 3]> = patch
+            .iter()
+            .map(|&(x, _, _)| {
+                let rotation = scale(omega, cross(n, x));
+                let bend = scale(0.3 * dot(x, e[0]), n);
+                crate::vector3::add(crate::vector3::add(rotation, shift), bend)
+            })
+            .collect();
+        let twist: f64 = terms.iter().map(|&(j, g)| dot(g, u[j])).sum();
+        assert!((twist - omega).abs() < 1e-14, "{twist} vs {omega}");
+        assert!(twist_terms(&patch[..1], n).is_none());
     }
 }

@@ -134,7 +134,8 @@ pub struct ReductionSpec {
     pub area_weighting: bool,
     /// Each reduced contact carries its patch law: the full model's penalty integrated over
     /// its share of the pad face, tilt included (squeal's addition to the paper's point
-    /// contacts, [`crate::reduce::tilt`]). Not with super-elements yet.
+    /// contacts, [`crate::reduce::tilt`]). Super-elements then carry the same law, with no
+    /// cubic k_linear or k_cubic.
     #[serde(default = "default_tilt", skip_serializing_if = "std::ops::Not::not")]
     pub tilt: bool,
     /// Craig-Bampton super-elements on the reduced interface, assembled with node-to-node
@@ -743,12 +744,14 @@ impl Study {
                 .comparison
                 .as_ref()
                 .is_some_and(|c| !c.superelements.is_empty());
-            if r.tilt && (r.superelements.is_some() || compared_superelements) {
+            let cubic = r.k_linear.is_some() || r.k_cubic.is_some_and(|k| k != 0.0);
+            if r.tilt && cubic && (r.superelements.is_some() || compared_superelements) {
                 return Err(bad(
                     "reduction.tilt".into(),
-                    "patch laws are not carried by super-elements yet (their boundary would \
-                     need each reduced contact's tilt node): sweep the reduced-interface model \
-                     alone, or leave reduction.tilt out for super-elements"
+                    "a super-element's patch laws are the reduced-interface model's penalty \
+                     over each share: reduction.k_linear and reduction.k_cubic are a point \
+                     contact's cubic law and cannot be set with them (leave them out, or \
+                     leave reduction.tilt out)"
                         .into(),
                 ));
             }
@@ -1242,16 +1245,26 @@ mod tests {
     }
 
     #[test]
-    fn patch_laws_are_refused_with_super_elements() {
+    fn patch_laws_refuse_a_cubic_law_for_their_super_elements() {
         let e = Study::read(&write(
             "tilt-se.toml",
-            "[reduction]\ncontact_nodes_per_pad = 6\ntilt = true\nsuperelements = \"single\"\n",
+            "[reduction]\ncontact_nodes_per_pad = 6\ntilt = true\nsuperelements = \
+             \"single\"\nk_cubic = 1e17\n",
         ))
         .unwrap_err()
         .to_string();
+        assert!(e.contains("reduction.tilt") && e.contains("k_cubic"), "{e}");
+        // Super-elements of patch laws read.
+        let s = Study::read(&write(
+            "patch-se-alone.toml",
+            "[reduction]\ncontact_nodes_per_pad = 6\ntilt = true\nsuperelements = \"single\"\n",
+        ));
         assert!(
-            e.contains("reduction.tilt") && e.contains("not carried by super-elements"),
-            "{e}"
+            s.as_ref()
+                .err()
+                .is_none_or(|e| !e.to_string().contains("tilt")),
+            "{:?}",
+            s.err()
         );
         // Alone it reads, and a study without it writes no key.
         let s = Study::read(&write(
