@@ -198,9 +198,10 @@ enum Command {
     /// value of a sweep, is cached by a key of what it depends on: a rerun recomputes only
     /// what changed, the new friction values, or what an interruption left unfinished. Given
     /// neither a file nor --preset: the quick built-in study (the floating-caliper brake on
-    /// the tiny-caliper mesh, mu 0.3, 0.6, 0.9, 0-6 kHz, 10 and 22 nodes per pad, the three
-    /// super-element strategies; about 5 minutes on 2 cores); with --preset, that preset's
-    /// built-in study (mu 0.1 to 0.9 by 0.1, 0-10 kHz, 22 and 52 nodes per pad).
+    /// the tiny-caliper mesh, mu 0.3, 0.6, 0.9, 0-6 kHz, 10 and 22 nodes per pad with patch
+    /// laws, the three super-element strategies; about 4 minutes on 2 cores); with --preset,
+    /// that preset's built-in study (mu 0.1 to 0.9 by 0.1, 0-10 kHz, 22 and 52 nodes per pad,
+    /// point contacts).
     Study {
         #[command(flatten)]
         study: StudyFlags,

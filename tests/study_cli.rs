@@ -482,3 +482,38 @@ fn the_mesh_file_example_runs_and_its_model_is_the_built_in_one() {
         assert_eq!(a.2, b.2);
     }
 }
+
+/// The quick study (no file, no preset) compares reduced contacts with patch laws, and
+/// says so in the study it writes; a `--preset` study keeps the paper's point contacts.
+#[test]
+fn the_quick_study_writes_its_patch_laws_and_a_preset_study_does_not() {
+    let dir = scratch("study", "quick-plan");
+    let quick = dir.join("quick.toml");
+    let preset = dir.join("preset.toml");
+    success(&["study", "--write-study", quick.to_str().unwrap()]);
+    let preset_args = [
+        "study",
+        "--preset",
+        "tiny-caliper",
+        "--write-study",
+        preset.to_str().unwrap(),
+    ];
+    success(&preset_args);
+    let read = |path: &Path| -> toml::Value {
+        toml::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+    };
+    let quick = read(&quick);
+    assert_eq!(
+        quick.get("reduction").and_then(|r| r.get("tilt")),
+        Some(&toml::Value::Boolean(true)),
+        "{quick}"
+    );
+    let preset = read(&preset);
+    assert!(
+        preset
+            .get("reduction")
+            .and_then(|r| r.get("tilt"))
+            .is_none(),
+        "{preset}"
+    );
+}
