@@ -50,7 +50,7 @@ impl Default for TrackingOptions {
 }
 
 /// One mode followed across the sweep.
-#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Track {
     /// Index of the track in the list [`track`] returns.
     pub id: usize,
@@ -84,7 +84,7 @@ impl Default for InstabilityOptions {
 }
 
 /// One interval of mu over which a track is unstable.
-#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Instability {
     /// The unstable track's id.
     pub track: usize,
@@ -116,6 +116,8 @@ pub struct Instability {
     pub frequency_hz_at_first_unstable: f64,
     /// The largest real part (1/s) over the interval.
     pub max_real_part: f64,
+    /// (Not written by the oldest versions: read as 0.)
+    #[serde(default)]
     pub mu_at_max: f64,
     pub frequency_hz_at_max: f64,
     /// Where the real part crosses zero again (linear interpolation), `None` when the track

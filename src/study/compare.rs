@@ -47,140 +47,22 @@ pub enum CompareError {
     },
 }
 
-#[derive(Clone, Debug, serde::Deserialize)]
-struct Mode {
-    frequency_hz: f64,
-    real_part: f64,
-    /// The CEA's flag (older folders: the CEA's own decision with the default threshold).
-    #[serde(default)]
-    unstable: Option<bool>,
-}
+use crate::analysis::cea::ComplexMode as Mode;
+use crate::analysis::tracking::Instability as InstabilityRecord;
+use crate::study::results::{DocumentError, SweepDocument as Sweep};
+use crate::study::sweep::{SuperElementPoint as SuperElementRecord, SweepPointReport as Point};
 
-impl Mode {
-    fn is_unstable(&self) -> bool {
-        self.unstable.unwrap_or_else(|| {
-            let lambda = num_complex::Complex64::new(
-                self.real_part,
-                2.0 * std::f64::consts::PI * self.frequency_hz,
-            );
-            crate::analysis::cea::is_unstable(
-                lambda,
-                crate::analysis::cea::DEFAULT_UNSTABLE_THRESHOLD,
-            )
-        })
-    }
-}
-
-#[derive(Clone, Debug, serde::Deserialize)]
-struct Point {
-    friction: f64,
-    eigenvalues: Vec<Mode>,
-    #[serde(default)]
-    seconds: f64,
-    /// A super-element assembly's point.
-    #[serde(default)]
-    superelement: Option<SuperElementRecord>,
-}
-
-#[derive(Clone, Debug, serde::Deserialize)]
-struct SuperElementRecord {
-    size: usize,
-    rebuilt: bool,
-    dense_static_seconds: f64,
-    dense_cea_seconds: f64,
-}
-
-#[derive(Clone, Debug, serde::Deserialize)]
-struct TrackRecord {
-    id: usize,
-    members: Vec<Option<usize>>,
-}
-
-#[derive(Clone, Debug, serde::Deserialize)]
-struct InstabilityRecord {
-    track: usize,
-    partner: Option<usize>,
-    onset_mu: f64,
-    max_real_part: f64,
-    frequency_hz_at_max: f64,
-    #[serde(default)]
-    mu_at_max: f64,
-}
-
-#[derive(Clone, Debug, serde::Deserialize)]
-struct ModelRecord {
-    source: String,
-    equations: usize,
-    /// Mesh and extra nodes (folders of every squeal that wrote equations have it).
-    #[serde(default)]
-    nodes: Option<usize>,
-}
-
-/// What compare reads of a sweep folder.
-#[derive(Clone, Debug, serde::Deserialize)]
-struct Sweep {
-    model: ModelRecord,
-    points: Vec<Point>,
-    tracks: Vec<TrackRecord>,
-    instabilities: Vec<InstabilityRecord>,
-}
-
-impl Sweep {
-    fn read(dir: &Path) -> Result<Sweep, CompareError> {
-        let file = dir.join("sweep.json");
-        let bytes = std::fs::read(&file).map_err(|source| CompareError::Read {
-            file: file.clone(),
-            source,
-        })?;
-        let sweep: Sweep = serde_json::from_slice(&bytes).map_err(|e| CompareError::Format {
-            file: file.clone(),
-            message: e.to_string(),
-        })?;
-        sweep
-            .check()
-            .map_err(|message| CompareError::Format { file, message })?;
-        Ok(sweep)
-    }
-
-    /// What no sweep squeal wrote holds: an equation count beyond three per node, a
-    /// negative or non-finite friction value, a non-finite eigenvalue. (An edited file was
-    /// compared without a word.)
-    fn check(&self) -> Result<(), String> {
-        let m = &self.model;
-        if m.equations == 0 || m.nodes.is_some_and(|n| m.equations > 3 * n) {
-            return Err(format!(
-                "model.equations = {} for {} nodes: at most three per node",
-                m.equations,
-                m.nodes.map_or("?".into(), |n| n.to_string())
-            ));
+impl From<DocumentError> for CompareError {
+    fn from(e: DocumentError) -> Self {
+        match e {
+            DocumentError::Read { file, source } => CompareError::Read { file, source },
+            DocumentError::Format { file, message } => CompareError::Format { file, message },
         }
-        for p in &self.points {
-            if !(p.friction.is_finite() && p.friction >= 0.0) {
-                return Err(format!("a point's friction is {}", p.friction));
-            }
-            if let Some(e) = p
-                .eigenvalues
-                .iter()
-                .find(|e| !(e.frequency_hz.is_finite() && e.real_part.is_finite()))
-            {
-                return Err(format!(
-                    "at mu {} an eigenvalue is {} Hz, {} 1/s",
-                    p.friction, e.frequency_hz, e.real_part
-                ));
-            }
-        }
-        Ok(())
-    }
-
-    fn point_at(&self, mu: f64) -> Option<usize> {
-        self.points
-            .iter()
-            .position(|p| (p.friction - mu).abs() <= 1e-9 * mu.abs().max(1.0))
     }
 }
 
 /// One model's errors on one reference instability.
-#[derive(Clone, Debug, serde::Serialize)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct InstabilityComparison {
     pub reference_frequency_hz: f64,
     pub reference_onset_mu: f64,
@@ -217,7 +99,7 @@ pub struct InstabilityComparison {
 }
 
 /// An instability of another model that matches none of the reference's.
-#[derive(Clone, Debug, serde::Serialize)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct ExtraInstability {
     pub model: String,
     pub frequency_hz: f64,
@@ -225,7 +107,7 @@ pub struct ExtraInstability {
     pub max_real_part: f64,
 }
 
-#[derive(Clone, Debug, serde::Serialize)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct ModelEntry {
     pub folder: String,
     pub source: String,
@@ -238,7 +120,7 @@ pub struct ModelEntry {
     pub superelement: Option<SuperElementSummary>,
 }
 
-#[derive(Clone, Debug, serde::Serialize)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct SuperElementSummary {
     pub size: usize,
     pub built: usize,
@@ -274,7 +156,7 @@ fn median_seconds(s: &Sweep) -> f64 {
 
 /// The static states of one model against the reference's at one friction value (paper
 /// section 4.2, Figures 7 and 9-11).
-#[derive(Clone, Debug, serde::Serialize)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct StaticComparison {
     pub model: String,
     pub friction: f64,
@@ -294,7 +176,7 @@ pub struct StaticComparison {
 }
 
 /// The comparison, as written to compare.json.
-#[derive(Clone, Debug, serde::Serialize)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Comparison {
     /// The reference first.
     pub models: Vec<ModelEntry>,
@@ -611,12 +493,8 @@ fn unstable_friction(s: &Sweep, i: &InstabilityRecord) -> Vec<f64> {
     (0..s.points.len())
         .filter(|&k| {
             pair_indices(s, i, k).is_some_and(|idx| {
-                idx.iter().any(|&n| {
-                    s.points[k]
-                        .eigenvalues
-                        .get(n)
-                        .is_some_and(Mode::is_unstable)
-                })
+                idx.iter()
+                    .any(|&n| s.points[k].eigenvalues.get(n).is_some_and(|m| m.unstable))
             })
         })
         .map(|k| s.points[k].friction)
@@ -1131,6 +1009,19 @@ impl Comparison {
         Ok(())
     }
 
+    /// A comparison folder's compare.json, typed: what the study report reads.
+    pub fn read(dir: &Path) -> Result<Comparison, DocumentError> {
+        let file = dir.join("compare.json");
+        let bytes = std::fs::read(&file).map_err(|source| DocumentError::Read {
+            file: file.clone(),
+            source,
+        })?;
+        serde_json::from_slice(&bytes).map_err(|e| DocumentError::Format {
+            file,
+            message: e.to_string(),
+        })
+    }
+
     /// compare.json and compare.md into `dir`, each whole or not at all.
     pub fn write(&self, dir: &Path) -> Result<(), CompareError> {
         let err = |file: PathBuf| move |source| CompareError::Write { file, source };
@@ -1247,6 +1138,14 @@ mod tests {
 
     use super::*;
 
+    /// Writes a sweep.json a test spelt out, completed with the schema's other fields
+    /// ([`crate::study::results::fixture::complete`]).
+    fn store(dir: &Path, doc: serde_json::Value) {
+        let doc = crate::study::results::fixture::complete(doc);
+        std::fs::create_dir_all(dir).unwrap();
+        std::fs::write(dir.join("sweep.json"), doc.to_string()).unwrap();
+    }
+
     /// A sweep folder with one instability: tracks 0 and 1 at the given frequencies per mu,
     /// coupled (track 1 unstable, partner 0) with real part `a` at every point.
     fn write_sweep(dir: &Path, frequencies: &[(f64, f64)], a: f64) {
@@ -1277,7 +1176,7 @@ mod tests {
             }]
         });
         std::fs::create_dir_all(dir).unwrap();
-        std::fs::write(dir.join("sweep.json"), doc.to_string()).unwrap();
+        store(dir, doc);
     }
 
     /// Eqs. 12-14 by hand: per mu the two modes' relative errors add up.
@@ -1340,7 +1239,7 @@ mod tests {
                 ]
             });
             std::fs::create_dir_all(dir).unwrap();
-            std::fs::write(dir.join("sweep.json"), doc.to_string()).unwrap();
+            store(dir, doc);
         };
         sweep(&r, 1.0, false);
         sweep(&o, 1.001, true);
@@ -1414,7 +1313,7 @@ mod tests {
                 "instabilities": instabilities
             });
             std::fs::create_dir_all(dir).unwrap();
-            std::fs::write(dir.join("sweep.json"), doc.to_string()).unwrap();
+            store(dir, doc);
         };
         let record = |track: usize, f: f64, mu: f64| {
             serde_json::json!({"track": track, "partner": track - 1, "onset_mu": mu,
@@ -1638,7 +1537,7 @@ mod tests {
                 }]
             });
             std::fs::create_dir_all(dir).unwrap();
-            std::fs::write(dir.join("sweep.json"), doc.to_string()).unwrap();
+            store(dir, doc);
         };
         let (r, o, d) = (
             root.path().join("ref"),

@@ -18,6 +18,7 @@ pub mod plot;
 pub mod progress;
 pub mod radius;
 pub mod report;
+pub mod results;
 pub mod run;
 pub mod staging;
 pub mod sweep;

@@ -8,11 +8,11 @@
 
 use super::stage::{Stage, Work};
 use super::Outcome;
-use crate::study::compare::SpectrumComparison;
+use crate::study::compare::Comparison;
 use crate::study::config::Study;
 use crate::study::report::write_file;
+use crate::study::results::{DocumentError, SweepDocument};
 use crate::study::StudyError;
-use serde_json::Value;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -37,23 +37,30 @@ pub struct Report {
     root: PathBuf,
 }
 
-fn read_json(path: &Path) -> Result<Value, StudyError> {
-    let bytes = std::fs::read(path).map_err(|source| StudyError::Read {
-        path: path.to_path_buf(),
-        source,
-    })?;
-    serde_json::from_slice(&bytes).map_err(|e| StudyError::ReportInput {
-        path: path.to_path_buf(),
-        message: e.to_string(),
-    })
+/// A stage's sweep.json, typed ([`SweepDocument`]): a field the report needs and the
+/// writer renamed is a compile error, a file without it a named error.
+fn read_sweep(dir: &Path) -> Result<SweepDocument, StudyError> {
+    SweepDocument::read(dir).map_err(input_error)
 }
 
-fn f(v: &Value) -> Option<f64> {
-    v.as_f64()
+/// A comparison stage's compare.json, typed, as [`read_sweep`].
+fn read_comparison(dir: &Path) -> Result<Comparison, StudyError> {
+    Comparison::read(dir).map_err(input_error)
 }
 
-fn percent(v: &Value) -> String {
-    f(v).map_or("-".into(), |x| format!("{:.3} %", 100.0 * x))
+fn input_error(e: DocumentError) -> StudyError {
+    match e {
+        DocumentError::Read { file, source } => StudyError::Read { path: file, source },
+        DocumentError::Format { file, message } => StudyError::ReportInput {
+            path: file,
+            message,
+        },
+    }
+}
+
+/// A fraction as a percentage; "-" where there is none (an instability not matched).
+fn percent(v: Option<f64>) -> String {
+    v.map_or("-".into(), |x| format!("{:.3} %", 100.0 * x))
 }
 
 fn median(mut xs: Vec<f64>) -> f64 {
@@ -72,38 +79,24 @@ impl Report {
     ) -> Result<Report, StudyError> {
         let out = study.output.clone();
         let mut blocks = Vec::new();
-        let full = read_json(&out.join("full").join("sweep.json"))?;
-        let model = &full["model"];
-        blocks.push(Block::Heading(
-            1,
-            format!(
-                "squeal study: {}",
-                model["source"].as_str().unwrap_or(study_name)
-            ),
-        ));
+        let full = read_sweep(&out.join("full"))?;
+        let model = &full.model;
+        blocks.push(Block::Heading(1, format!("squeal study: {}", model.source)));
         let friction: Vec<String> = study
             .analysis
             .friction
             .iter()
             .map(|m| format!("{m}"))
             .collect();
-        let pairs: Vec<String> = model["pairs"]
-            .as_array()
-            .map(|a| {
-                a.iter()
-                    .filter_map(|p| p.as_str().map(str::to_string))
-                    .collect()
-            })
-            .unwrap_or_default();
         blocks.push(Block::Paragraph(format!(
             "Study {study_name}. Full model: {} nodes, {} elements, {} equations on {} MPI rank(s); \
              contact pairs: {}. Band 0-{} Hz; friction values {}. Made by {}.",
-            model["nodes"],
-            model["elements"],
-            model["equations"],
-            model["ranks"],
-            pairs.join(", "),
-            model["max_frequency_hz"],
+            model.nodes,
+            model.elements,
+            model.equations,
+            model.ranks,
+            model.pairs.join(", "),
+            model.max_frequency_hz,
             friction.join(", "),
             super::stage::version()
         )));
@@ -115,26 +108,22 @@ impl Report {
             let Work::Sweep(_) = stage.work else {
                 continue;
             };
-            let sweep = read_json(&out.join(&stage.name).join("sweep.json"))?;
-            let points = sweep["points"].as_array().cloned().unwrap_or_default();
-            let per_mu = median(points.iter().filter_map(|p| f(&p["seconds"])).collect());
+            let sweep = read_sweep(&out.join(&stage.name))?;
+            let points = &sweep.points;
+            let per_mu = median(points.iter().map(|p| p.seconds).collect());
             let memory = points
                 .iter()
-                .filter_map(|p| f(&p["peak_rss_mib_all_ranks"]))
+                .map(|p| p.peak_rss_mib_all_ranks)
                 .fold(0.0, f64::max);
-            let se: Vec<&Value> = points
+            let se: Vec<_> = points
                 .iter()
-                .map(|p| &p["superelement"])
-                .filter(|s| !s.is_null())
+                .filter_map(|p| p.superelement.as_ref())
                 .collect();
             let size = if se.is_empty() {
-                format!("{} equations", sweep["model"]["equations"])
+                format!("{} equations", sweep.model.equations)
             } else {
-                let largest = se.iter().filter_map(|s| s["size"].as_u64()).max();
-                let built = se
-                    .iter()
-                    .filter(|s| s["rebuilt"].as_bool() == Some(true))
-                    .count();
+                let largest = se.iter().map(|s| s.size).max();
+                let built = se.iter().filter(|s| s.rebuilt).count();
                 format!(
                     "{} reduced unknowns, {built} super-element(s) built",
                     largest.unwrap_or(0)
@@ -147,9 +136,7 @@ impl Report {
                     " (dense static + CEA {:.2} s)",
                     median(
                         se.iter()
-                            .filter_map(|s| Some(
-                                f(&s["dense_static_seconds"])? + f(&s["dense_cea_seconds"])?
-                            ))
+                            .map(|s| s.dense_static_seconds + s.dense_cea_seconds)
                             .collect()
                     )
                 )
@@ -158,10 +145,7 @@ impl Report {
                 stage.title.clone(),
                 format!("`{}`", stage.name),
                 size,
-                sweep["instabilities"]
-                    .as_array()
-                    .map_or(0, Vec::len)
-                    .to_string(),
+                sweep.instabilities.len().to_string(),
                 format!("{per_mu:.1} s{dense}"),
                 format!("{:.1} s{}", outcome.seconds(), outcome.note()),
                 format!("{memory:.0} MiB"),
@@ -184,43 +168,33 @@ impl Report {
 
         // The full model's instabilities.
         blocks.push(Block::Heading(2, "Instabilities of the full model".into()));
-        let mut instabilities: Vec<Value> = full["instabilities"]
-            .as_array()
-            .cloned()
-            .unwrap_or_default();
-        instabilities.sort_by(|a, b| {
-            f(&b["max_real_part"])
-                .unwrap_or(0.0)
-                .total_cmp(&f(&a["max_real_part"]).unwrap_or(0.0))
-        });
+        let mut instabilities = full.instabilities.clone();
+        instabilities.sort_by(|a, b| b.max_real_part.total_cmp(&a.max_real_part));
         let mut rows = Vec::new();
         let mut summary = Vec::new();
         for i in &instabilities {
-            let first_mu = f(&i["first_unstable_mu"]).map_or("-".into(), |m| format!("{m:.2}"));
-            let first_f = f(&i["frequency_hz_at_first_unstable"])
-                .map_or("-".into(), |x| format!("{x:.1} Hz"));
+            let first_mu = format!("{:.2}", i.first_unstable_mu);
+            let first_f = format!("{:.1} Hz", i.frequency_hz_at_first_unstable);
             // The onset between the samples: the coalescence of the pair's eigenvalues where
             // bracketed, else the real part's zero crossing.
-            let onset = match (i["onset_bracketed"].as_bool(), f(&i["coalescence_mu"])) {
+            let onset = match (i.onset_bracketed, i.coalescence_mu) {
                 // Its track begins unstable: at the sweep's first value, or where tracking
                 // first found this mode (it entered the band, or a close mode took its place).
-                (Some(false), _) => format!("at or before {first_mu} (its track begins unstable)"),
-                (_, Some(c)) => format!("{c:.3} (coalescence)"),
-                _ => format!("{:.3}", f(&i["onset_mu"]).unwrap_or(0.0)),
+                (false, _) => format!("at or before {first_mu} (its track begins unstable)"),
+                (true, Some(c)) => format!("{c:.3} (coalescence)"),
+                (true, None) => format!("{:.3}", i.onset_mu),
             };
             rows.push(vec![
-                format!("{:.1} Hz", f(&i["frequency_hz_at_max"]).unwrap_or(0.0)),
+                format!("{:.1} Hz", i.frequency_hz_at_max),
                 first_mu.clone(),
                 first_f.clone(),
                 onset,
-                format!("{:.1}", f(&i["max_real_part"]).unwrap_or(0.0)),
-                format!("{:.2}", f(&i["mu_at_max"]).unwrap_or(0.0)),
+                format!("{:.1}", i.max_real_part),
+                format!("{:.2}", i.mu_at_max),
             ]);
             summary.push(format!(
                 "{:.0} Hz: unstable from mu {first_mu} (at {first_f}), growth rate up to {:.1} 1/s at mu {:.2}",
-                f(&i["frequency_hz_at_max"]).unwrap_or(0.0),
-                f(&i["max_real_part"]).unwrap_or(0.0),
-                f(&i["mu_at_max"]).unwrap_or(0.0),
+                i.frequency_hz_at_max, i.max_real_part, i.mu_at_max,
             ));
         }
         if rows.is_empty() {
@@ -278,7 +252,7 @@ impl Report {
             let Work::Compare(inputs) = &stage.work else {
                 continue;
             };
-            let c = read_json(&out.join(&stage.name).join("compare.json"))?;
+            let c = read_comparison(&out.join(&stage.name))?;
             let tables = if stage.name == "compare-reduced" {
                 "the paper's Tables 4-5"
             } else {
@@ -295,21 +269,19 @@ impl Report {
                  real-part gap relative to the reference's largest real part. From `{}/compare.json`.",
                 inputs[0], stage.name
             )));
-            let compared = c["instabilities"].as_array().cloned().unwrap_or_default();
-            if compared.is_empty() {
+            if c.instabilities.is_empty() {
                 blocks.push(Block::Paragraph(format!(
                     "The reference `{}` has no instability to compare.",
                     inputs[0]
                 )));
             }
             let mut rows = Vec::new();
-            for i in compared {
-                let model = i["model"].as_str().unwrap_or("");
-                let folder = Path::new(model)
+            for i in &c.instabilities {
+                let folder = Path::new(&i.model)
                     .file_name()
-                    .map_or(model.to_string(), |n| n.to_string_lossy().into_owned());
-                let matched = i["matched"].as_bool() == Some(true);
-                let key = format!("{:.1}", f(&i["reference_frequency_hz"]).unwrap_or(0.0));
+                    .map_or(i.model.clone(), |n| n.to_string_lossy().into_owned());
+                let matched = i.matched;
+                let key = format!("{:.1}", i.reference_frequency_hz);
                 if matched {
                     let full_key = if inputs[0] == "full" {
                         Some(key.clone())
@@ -325,12 +297,12 @@ impl Report {
                         } else {
                             format!(" against {}", inputs[0])
                         };
-                        let entry = format!("{folder} (max {}{against})", percent(&i["max_error"]));
+                        let entry = format!("{folder} (max {}{against})", percent(i.max_error));
                         match found.iter_mut().find(|(k, _)| *k == full_key) {
                             Some((_, v)) => v.push(entry),
                             None => found.push((full_key.clone(), vec![entry])),
                         }
-                        if let Some(fm) = f(&i["model_frequency_hz"]) {
+                        if let Some(fm) = i.model_frequency_hz {
                             aliases.push((folder.clone(), format!("{fm:.1}"), full_key));
                         }
                     }
@@ -339,11 +311,11 @@ impl Report {
                     format!("{key} Hz"),
                     format!("`{folder}`"),
                     if matched { "yes" } else { "**missed**" }.into(),
-                    f(&i["mac"]).map_or("-".into(), |m| format!("{m:.3}")),
-                    percent(&i["mean_error"]),
-                    percent(&i["min_error"]),
-                    percent(&i["max_error"]),
-                    percent(&i["real_part_max_error"]),
+                    i.mac.map_or("-".into(), |m| format!("{m:.3}")),
+                    percent(i.mean_error),
+                    percent(i.min_error),
+                    percent(i.max_error),
+                    percent(i.real_part_max_error),
                 ]);
             }
             if !rows.is_empty() {
@@ -363,8 +335,7 @@ impl Report {
                     rows,
                 });
             }
-            let spectra: Vec<SpectrumComparison> =
-                serde_json::from_value(c["spectra"].clone()).unwrap_or_default();
+            let spectra = &c.spectra;
             if !spectra.is_empty() {
                 blocks.push(Block::Paragraph(
                     "Every mode of the band, stable ones included, paired with the reference's \
@@ -409,15 +380,15 @@ impl Report {
                     rows,
                 });
             }
-            let extra = c["extra"].as_array().cloned().unwrap_or_default();
-            if !extra.is_empty() {
-                let list: Vec<String> = extra
+            if !c.extra.is_empty() {
+                let list: Vec<String> = c
+                    .extra
                     .iter()
                     .map(|e| {
                         format!(
                             "{:.1} Hz in `{}`",
-                            f(&e["frequency_hz"]).unwrap_or(0.0),
-                            Path::new(e["model"].as_str().unwrap_or(""))
+                            e.frequency_hz,
+                            Path::new(&e.model)
                                 .file_name()
                                 .map_or(String::new(), |n| n.to_string_lossy().into_owned())
                         )
@@ -467,7 +438,7 @@ impl Report {
                 summary.len()
             ));
             for (line, i) in summary.iter().zip(&instabilities) {
-                let key = format!("{:.1}", f(&i["frequency_hz_at_max"]).unwrap_or(0.0));
+                let key = format!("{:.1}", i.frequency_hz_at_max);
                 let by = found
                     .iter()
                     .find(|(k, _)| *k == key)

@@ -30,6 +30,8 @@ pub struct SweepPointReport {
     pub cea_seconds: f64,
     /// Shift-and-invert targets the CEA used.
     pub cea_shifts: usize,
+    /// (Not written by the oldest versions: read as 0.)
+    #[serde(default)]
     pub seconds: f64,
     /// Peak resident memory (VmHWM) up to this point: the largest rank's and the sum, MiB.
     pub peak_rss_mib_max_rank: f64,
@@ -79,7 +81,7 @@ pub struct SuperElementPoint {
 }
 
 /// The super-element settings of a sweep (sweep.json's model).
-#[derive(Clone, Debug, serde::Serialize)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct SuperElementInfo {
     pub strategy: String,
     /// mu_SE of the single strategy.
@@ -189,9 +191,11 @@ impl PairReport {
 }
 
 /// The model a sweep ran on, as sweep.json records it.
-#[derive(Clone, Debug, serde::Serialize)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct ModelInfo {
     pub source: String,
+    /// Mesh and extra nodes (not written by the oldest versions: read as 0, unknown).
+    #[serde(default)]
     pub nodes: usize,
     pub elements: usize,
     pub equations: usize,
@@ -224,14 +228,6 @@ impl ModelInfo {
             self.applied_load
         )
     }
-}
-
-#[derive(serde::Serialize)]
-struct SweepDocument<'a> {
-    model: &'a ModelInfo,
-    points: &'a [SweepPointReport],
-    tracks: &'a [Track],
-    instabilities: &'a [Instability],
 }
 
 /// A point's cea.json/csv and, when the model has fields on a mesh, its cea.vtu.
@@ -304,14 +300,15 @@ pub fn write_sweep(
     tracks: &[Track],
     instabilities: &[Instability],
 ) -> Result<(), StudyError> {
-    let doc = SweepDocument {
-        model: info,
-        points: reports,
-        tracks,
-        instabilities,
+    // One schema for the writer and every reader (a few kB to clone).
+    let doc = crate::study::results::SweepDocument {
+        model: info.clone(),
+        points: reports.to_vec(),
+        tracks: tracks.to_vec(),
+        instabilities: instabilities.to_vec(),
     };
     create_dir(dir)?;
-    let json = dir.join("sweep.json");
+    let json = dir.join(crate::study::results::SweepDocument::FILE);
     write_file(&json, &json_for(&json, &doc)?)?;
     write_plots(dir, reports, points, tracks, instabilities)
 }

@@ -1,0 +1,301 @@
+//! The typed schema of a sweep folder's `sweep.json`: one document that the sweep writes
+//! ([`crate::study::sweep::output::write_sweep`]) and that `squeal compare` and the study
+//! report read. Before, the writer had its own borrowed struct, compare its own private
+//! copies of some fields and the report some 40 string lookups into untyped JSON: a field
+//! renamed in the writer turned the report's cell into "-" without a word (issue 31). Now a
+//! rename is a compile error in every reader.
+//!
+//! Folders of older squeal versions are read as they always were: a missing eigenvalue flag
+//! `unstable` is the CEA's own decision with the default threshold (not `real part > 0`,
+//! which counts round-off as growth), and a missing `seconds`, `model.nodes` or
+//! `mu_at_max` reads as 0 (unknown). Anything else missing is refused by name.
+
+use crate::analysis::cea;
+use crate::analysis::tracking::{Instability, Track};
+use crate::study::sweep::{ModelInfo, SweepPointReport};
+use num_complex::Complex64;
+use std::path::{Path, PathBuf};
+
+/// Everything a sweep folder's sweep.json holds.
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+pub struct SweepDocument {
+    pub model: ModelInfo,
+    pub points: Vec<SweepPointReport>,
+    pub tracks: Vec<Track>,
+    pub instabilities: Vec<Instability>,
+}
+
+/// Why a result file (sweep.json, compare.json) could not be read.
+#[derive(Debug, thiserror::Error)]
+pub enum DocumentError {
+    #[error("reading {}: {source}", file.display())]
+    Read {
+        file: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    #[error(
+        "{}: not a squeal {}: {message}",
+        file.display(),
+        file.file_name().map_or(String::new(), |n| n.to_string_lossy().into_owned())
+    )]
+    Format { file: PathBuf, message: String },
+}
+
+impl SweepDocument {
+    /// The file's name in a sweep folder.
+    pub const FILE: &'static str = "sweep.json";
+
+    /// Reads `dir`/sweep.json, fills what older versions did not write (see the module
+    /// doc), and refuses what no sweep squeal wrote holds ([`SweepDocument::check`]).
+    pub fn read(dir: &Path) -> Result<SweepDocument, DocumentError> {
+        let file = dir.join(Self::FILE);
+        let bytes = std::fs::read(&file).map_err(|source| DocumentError::Read {
+            file: file.clone(),
+            source,
+        })?;
+        let format = |message: String| DocumentError::Format {
+            file: file.clone(),
+            message,
+        };
+        let mut value: serde_json::Value =
+            serde_json::from_slice(&bytes).map_err(|e| format(e.to_string()))?;
+        migrate(&mut value);
+        let mut doc: SweepDocument =
+            serde_json::from_value(value).map_err(|e| format(e.to_string()))?;
+        doc.check().map_err(format)?;
+        // lambda is not written (the frequency and real part are): put it back.
+        for mode in doc.points.iter_mut().flat_map(|p| &mut p.eigenvalues) {
+            mode.lambda = Complex64::new(
+                mode.real_part,
+                2.0 * std::f64::consts::PI * mode.frequency_hz,
+            );
+        }
+        Ok(doc)
+    }
+
+    /// What no sweep squeal wrote holds: an equation count beyond three per node, a
+    /// negative or non-finite friction value, a non-finite eigenvalue, a track whose
+    /// members point past its point's eigenvalues. (An edited file was compared without a
+    /// word.)
+    pub fn check(&self) -> Result<(), String> {
+        let m = &self.model;
+        if m.equations == 0 || (m.nodes > 0 && m.equations > 3 * m.nodes) {
+            return Err(format!(
+                "model.equations = {} for {} nodes: at most three per node",
+                m.equations,
+                if m.nodes > 0 {
+                    m.nodes.to_string()
+                } else {
+                    "?".into()
+                }
+            ));
+        }
+        for p in &self.points {
+            if !(p.friction.is_finite() && p.friction >= 0.0) {
+                return Err(format!("a point's friction is {}", p.friction));
+            }
+            if let Some(e) = p
+                .eigenvalues
+                .iter()
+                .find(|e| !(e.frequency_hz.is_finite() && e.real_part.is_finite()))
+            {
+                return Err(format!(
+                    "at mu {} an eigenvalue is {} Hz, {} 1/s",
+                    p.friction, e.frequency_hz, e.real_part
+                ));
+            }
+        }
+        for t in &self.tracks {
+            if t.members.len() != self.points.len() {
+                return Err(format!(
+                    "track {} has {} members for {} points",
+                    t.id,
+                    t.members.len(),
+                    self.points.len()
+                ));
+            }
+            for (k, n) in t.members.iter().enumerate() {
+                if let Some(n) = *n {
+                    if n >= self.points[k].eigenvalues.len() {
+                        return Err(format!(
+                            "track {} names mode {n} at mu {}, which has {} modes",
+                            t.id,
+                            self.points[k].friction,
+                            self.points[k].eigenvalues.len()
+                        ));
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The point at friction `mu` (to 1e-9 relative).
+    pub fn point_at(&self, mu: f64) -> Option<usize> {
+        self.points
+            .iter()
+            .position(|p| (p.friction - mu).abs() <= 1e-9 * mu.abs().max(1.0))
+    }
+}
+
+/// Fills what older versions did not write: each eigenvalue's `unstable` flag, by the CEA's
+/// own rule with the default threshold.
+fn migrate(doc: &mut serde_json::Value) {
+    let Some(points) = doc.get_mut("points").and_then(|p| p.as_array_mut()) else {
+        return;
+    };
+    for point in points {
+        let Some(modes) = point.get_mut("eigenvalues").and_then(|e| e.as_array_mut()) else {
+            continue;
+        };
+        for mode in modes {
+            let Some(object) = mode.as_object_mut() else {
+                continue;
+            };
+            if object.contains_key("unstable") {
+                continue;
+            }
+            let number = |key: &str| object.get(key).and_then(|v| v.as_f64());
+            if let (Some(f), Some(a)) = (number("frequency_hz"), number("real_part")) {
+                let lambda = Complex64::new(a, 2.0 * std::f64::consts::PI * f);
+                let flag = cea::is_unstable(lambda, cea::DEFAULT_UNSTABLE_THRESHOLD);
+                object.insert("unstable".into(), serde_json::Value::Bool(flag));
+            }
+        }
+    }
+}
+
+/// Sweep documents for tests.
+#[cfg(test)]
+pub(crate) mod fixture {
+    use serde_json::{json, Value};
+
+    /// A sweep.json a test spelt out, completed with the schema's other fields (neutral
+    /// values: no static iterations, no damping, the onset bracketed at the first unstable
+    /// point), so that each test says only what it is about.
+    pub fn complete(mut doc: Value) -> Value {
+        fn fill(v: &mut Value, defaults: Value) {
+            if let (Some(o), Value::Object(d)) = (v.as_object_mut(), defaults) {
+                for (k, x) in d {
+                    o.entry(k).or_insert(x);
+                }
+            }
+        }
+        fill(
+            &mut doc["model"],
+            json!({"elements": 0, "ranks": 1, "pairs": [], "max_frequency_hz": 1e4}),
+        );
+        for p in doc["points"].as_array_mut().into_iter().flatten() {
+            fill(
+                p,
+                json!({"static_iterations": 0, "static_factorizations": 0,
+                       "static_residuals": [], "cutbacks": 0, "contact": [],
+                       "balance_ratio": 1.0, "static_seconds": 0.0, "cea_seconds": 0.0,
+                       "cea_shifts": 0, "peak_rss_mib_max_rank": 0.0,
+                       "peak_rss_mib_all_ranks": 0.0}),
+            );
+            for m in p["eigenvalues"].as_array_mut().into_iter().flatten() {
+                fill(
+                    m,
+                    json!({"damping_ratio": 0.0, "rigid_body": false, "residual": 0.0}),
+                );
+            }
+        }
+        for t in doc["tracks"].as_array_mut().into_iter().flatten() {
+            let n = t["members"].as_array().map_or(0, Vec::len);
+            fill(t, json!({ "link_mac": vec![Value::Null; n] }));
+        }
+        for i in doc["instabilities"].as_array_mut().into_iter().flatten() {
+            let (mu, f) = (i["onset_mu"].clone(), i["frequency_hz_at_max"].clone());
+            fill(
+                i,
+                json!({"onset_bracketed": true, "frequency_hz_at_onset": f,
+                       "first_unstable_mu": mu, "frequency_hz_at_first_unstable": f}),
+            );
+        }
+        doc
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use serde_json::json;
+
+    /// Two points, a coupled pair unstable at the second; the first point's modes carry no
+    /// `unstable` flag (an older folder), with a real part of round-off at the first.
+    fn doc() -> serde_json::Value {
+        fixture::complete(json!({
+            "model": {"source": "test", "equations": 12, "nodes": 4},
+            "points": [
+                {"friction": 0.1, "eigenvalues": [
+                    {"frequency_hz": 1000.0, "real_part": 1e-9},
+                    {"frequency_hz": 1100.0, "real_part": 0.0}]},
+                {"friction": 0.2, "eigenvalues": [
+                    {"frequency_hz": 1050.0, "real_part": -5.0, "unstable": false},
+                    {"frequency_hz": 1050.0, "real_part": 5.0, "unstable": true}]}
+            ],
+            "tracks": [{"id": 0, "members": [0, 0]}, {"id": 1, "members": [1, 1]}],
+            "instabilities": [{"track": 1, "partner": 0, "onset_mu": 0.15,
+                               "max_real_part": 5.0, "frequency_hz_at_max": 1050.0,
+                               "mu_at_max": 0.2}]
+        }))
+    }
+
+    fn folder(doc: &serde_json::Value) -> tempfile::TempDir {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(dir.path().join(SweepDocument::FILE), doc.to_string()).unwrap();
+        dir
+    }
+
+    #[test]
+    fn what_is_written_is_what_is_read_and_older_flags_are_the_ceas_own() {
+        let dir = folder(&doc());
+        let read = SweepDocument::read(dir.path()).unwrap();
+        // The missing flags: round-off (1e-9 of |lambda| ~ 6e3) is not growth.
+        assert!(!read.points[0].eigenvalues[0].unstable);
+        assert!(read.points[1].eigenvalues[1].unstable);
+        // lambda comes back from what is written.
+        let m = &read.points[1].eigenvalues[1];
+        assert_eq!(
+            m.lambda,
+            Complex64::new(5.0, 2.0 * std::f64::consts::PI * 1050.0)
+        );
+        assert_eq!(read.point_at(0.2 + 1e-12), Some(1));
+        // Written again and read back: the same document.
+        let again = folder(&serde_json::to_value(&read).unwrap());
+        let back = SweepDocument::read(again.path()).unwrap();
+        assert_eq!(
+            serde_json::to_value(&back).unwrap(),
+            serde_json::to_value(&read).unwrap()
+        );
+        assert_eq!(back.instabilities, read.instabilities);
+        assert_eq!(back.tracks, read.tracks);
+    }
+
+    #[test]
+    fn a_missing_field_or_an_impossible_value_is_refused_by_name() {
+        let mut d = doc();
+        d["instabilities"][0]
+            .as_object_mut()
+            .unwrap()
+            .remove("first_unstable_mu");
+        let dir = folder(&d);
+        let e = SweepDocument::read(dir.path()).unwrap_err().to_string();
+        assert!(
+            e.contains("sweep.json") && e.contains("first_unstable_mu"),
+            "{e}"
+        );
+        let mut d = doc();
+        d["tracks"][1]["members"] = json!([1, 2]);
+        let dir = folder(&d);
+        let e = SweepDocument::read(dir.path()).unwrap_err().to_string();
+        assert!(e.contains("track 1 names mode 2"), "{e}");
+        let mut d = doc();
+        d["model"]["equations"] = json!(13);
+        let dir = folder(&d);
+        let e = SweepDocument::read(dir.path()).unwrap_err().to_string();
+        assert!(e.contains("at most three per node"), "{e}");
+    }
+}
