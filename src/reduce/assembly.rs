@@ -956,26 +956,11 @@ mod tests {
                 tilt: None,
             });
         }
-        let mut se = SuperElement {
-            header: SuperElementHeader {
-                units: "SI".into(),
-                friction: MU_SE,
-                cutoff_hz: 2e4,
-                modes: 2,
-                size,
-                other_contacts: vec![(
-                    "piston".into(),
-                    vec![contact::Status::Stick, contact::Status::Open],
-                )],
-                mesh_hash: "mesh".into(),
-                study_hash: "study".into(),
-                boundary,
-            },
-            stiffness,
-            mass,
-            load: vec![0.0; size],
-            equilibrium,
-        };
+        let other = vec![(
+            "piston".into(),
+            vec![contact::Status::Stick, contact::Status::Open],
+        )];
+        let mut se = superelement(boundary, other, stiffness, mass, equilibrium);
         let u = nodes(&se.equilibrium, 3);
         for k in 0..3 {
             let pair = penalty_pair(k, &se.header.boundary[k], MU_SE);
@@ -994,6 +979,34 @@ mod tests {
             })
             .collect();
         se
+    }
+
+    /// A super-element of 2 modes at MU_SE with no load yet (the tests make it consistent).
+    fn superelement(
+        boundary: Vec<BoundaryPair>,
+        other_contacts: Vec<(String, Vec<contact::Status>)>,
+        stiffness: Mat<f64>,
+        mass: Mat<f64>,
+        equilibrium: Vec<f64>,
+    ) -> SuperElement {
+        let size = equilibrium.len();
+        SuperElement {
+            header: SuperElementHeader {
+                units: "SI".into(),
+                friction: MU_SE,
+                cutoff_hz: 2e4,
+                modes: 2,
+                size,
+                other_contacts,
+                mesh_hash: "mesh".into(),
+                study_hash: "study".into(),
+                boundary,
+            },
+            stiffness,
+            mass,
+            load: vec![0.0; size],
+            equilibrium,
+        }
     }
 
     /// A cubic stiffness whose cubic term is 4 times the linear one at the closed pair's
@@ -1178,23 +1191,7 @@ mod tests {
                 &equilibrium[6..12],
             ),
         ];
-        let mut se = SuperElement {
-            header: SuperElementHeader {
-                units: "SI".into(),
-                friction: MU_SE,
-                cutoff_hz: 2e4,
-                modes: 2,
-                size,
-                other_contacts: Vec::new(),
-                mesh_hash: "mesh".into(),
-                study_hash: "study".into(),
-                boundary,
-            },
-            stiffness,
-            mass,
-            load: vec![0.0; size],
-            equilibrium,
-        };
+        let mut se = superelement(boundary, Vec::new(), stiffness, mass, equilibrium);
         // The point contact's force is k A d; the patch law needs none (it is the law).
         se.header.boundary[0].normal_force = 1e12 * 1e-4 * 2e-6;
         let unloaded = se.clone();

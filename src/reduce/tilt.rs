@@ -72,6 +72,18 @@ pub fn axes(plane_axes: [[f64; 3]; 2], n: [f64; 3]) -> Option<[[f64; 3]; 2]> {
     Some([e1, e2])
 }
 
+/// The weighted centre of a patch of `(position, node, weight)`; `None` when the weights do
+/// not add up to a positive total.
+fn weighted_centre(patch: &[([f64; 3], usize, f64)]) -> Option<[f64; 3]> {
+    let total: f64 = patch.iter().map(|p| p.2).sum();
+    if total.is_nan() || total <= 0.0 {
+        return None;
+    }
+    Some(patch.iter().fold([0.0; 3], |c, &(x, _, w)| {
+        crate::vector3::add(c, scale(w / total, x))
+    }))
+}
+
 /// One slope as a sum over a patch's nodes: (node, g) with slope = sum g . u_node.
 pub type SlopeTerms = Vec<(usize, [f64; 3])>;
 
@@ -84,13 +96,7 @@ pub fn slope_terms(
     axes: [[f64; 3]; 2],
     n: [f64; 3],
 ) -> Option<[SlopeTerms; 2]> {
-    let total: f64 = patch.iter().map(|p| p.2).sum();
-    if total.is_nan() || total <= 0.0 {
-        return None;
-    }
-    let centre = patch.iter().fold([0.0; 3], |c, &(x, _, w)| {
-        crate::vector3::add(c, scale(w / total, x))
-    });
+    let centre = weighted_centre(patch)?;
     let offsets: Vec<[f64; 2]> = patch
         .iter()
         .map(|&(x, _, _)| {
@@ -134,13 +140,7 @@ pub fn slope_terms(
 /// xi_j the in-plane offsets from the weighted centre and S = sum w_j |xi_j|^2. Exact for a
 /// rigid rotation about n (the weighted centre cancels any translation); `None` when S = 0.
 pub fn twist_terms(patch: &[([f64; 3], usize, f64)], n: [f64; 3]) -> Option<SlopeTerms> {
-    let total: f64 = patch.iter().map(|p| p.2).sum();
-    if total.is_nan() || total <= 0.0 {
-        return None;
-    }
-    let centre = patch.iter().fold([0.0; 3], |c, &(x, _, w)| {
-        crate::vector3::add(c, scale(w / total, x))
-    });
+    let centre = weighted_centre(patch)?;
     let offsets: Vec<[f64; 3]> = patch
         .iter()
         .map(|&(x, _, _)| {
