@@ -3,11 +3,13 @@
 //! stiffness the pad is held by along the disc normal), its centroid, and its second moments
 //! about the full model's centroid (what holds the pad against rocking). Run it with
 //!
-//!     cargo run --release --example interface_stiffness -- [PRESET] [NODES] [tilt|point] [MU] [RADIUS]
+//!     cargo run --release --example interface_stiffness -- [PRESET] [NODES] [tilt|point] [MU]
+//!         [RADIUS] [shape-functions|distributing] [DISC_E_FACTOR]
 //!     mpirun -n 2 target/release/examples/interface_stiffness tiny-caliper 22 tilt 0
 //!
 //! (defaults: tiny-caliper, 22 nodes per pad, patch laws, mu = 0, the grid-optimal radius of
-//! influence; RADIUS in mesh units; the preset's built-in study). The full model's stiffness is k_n a_i over its closed slave nodes; a point
+//! influence, the disc tied by shape functions, the disc's modulus as it is; RADIUS in mesh
+//! units; the preset's built-in study). The full model's stiffness is k_n a_i over its closed slave nodes; a point
 //! contact's is k_n A where it is closed; a patch law's is k_n a_j over the closed
 //! quadrature points of its share at the point's gap and tilt (`crate::contact::Tilt`).
 //!
@@ -27,7 +29,7 @@ use squeal::contact::{self, ContactPair, SlipHistory};
 use squeal::fem::element::MassRule;
 use squeal::model::{self, Model, Operators};
 use squeal::petsc::{Runtime, RuntimeOptions};
-use squeal::reduce::{reduce_interface, GridSize, InterfaceSettings, RadiusChoice};
+use squeal::reduce::{reduce_interface, DiscCoupling, GridSize, InterfaceSettings, RadiusChoice};
 use squeal::study::config::Study;
 use std::process::ExitCode;
 
@@ -171,15 +173,47 @@ fn run(rt: &Runtime) -> Result<Vec<String>, String> {
         ),
         None => RadiusChoice::GridOptimal,
     };
+    let disc_coupling = match args.get(5).map(String::as_str) {
+        None | Some("shape-functions") => DiscCoupling::ShapeFunctions,
+        Some("distributing") => DiscCoupling::Distributing,
+        Some(other) => {
+            return Err(format!(
+                "DISC_COUPLING: shape-functions or distributing, got {other}"
+            ))
+        }
+    };
+    // The disc's Young's modulus times this (a stiff disc takes its deformation out).
+    let disc_stiffer: f64 = match args.get(6) {
+        Some(x) => x
+            .parse()
+            .map_err(|_| format!("DISC_E_FACTOR: a number, got {x}"))?,
+        None => 1.0,
+    };
     let mut study = Study::builtin(preset);
     for c in study.contacts.iter_mut().filter(|c| c.sweep) {
         c.friction = mu;
     }
-    let full = Model::from_spec(&study.model_spec()).map_err(|e| e.to_string())?;
+    let mut full = Model::from_spec(&study.model_spec()).map_err(|e| e.to_string())?;
+    if disc_stiffer != 1.0 {
+        let disc = full
+            .mesh
+            .parts
+            .iter()
+            .find(|p| p.name == "disc")
+            .and_then(|p| p.material.clone())
+            .ok_or("no part 'disc' with a material")?;
+        let material = full
+            .mesh
+            .materials
+            .get_mut(&disc)
+            .ok_or("the disc's material is not in the mesh")?;
+        material.young *= disc_stiffer;
+    }
     let settings = InterfaceSettings {
         size: GridSize::Count(nodes),
         tilt,
         radius,
+        disc_coupling,
         ..Default::default()
     };
     let reduced = reduce_interface(&full, &settings).map_err(|e| e.to_string())?;
