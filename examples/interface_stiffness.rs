@@ -4,7 +4,7 @@
 //! about the full model's centroid (what holds the pad against rocking). Run it with
 //!
 //!     cargo run --release --example interface_stiffness -- [PRESET] [NODES] [tilt|point] [MU]
-//!         [RADIUS] [shape-functions|distributing] [DISC_E_FACTOR]
+//!         [RADIUS] [shape-functions|distributing|share] [DISC_E_FACTOR]
 //!     mpirun -n 2 target/release/examples/interface_stiffness tiny-caliper 22 tilt 0
 //!
 //! (defaults: tiny-caliper, 22 nodes per pad, patch laws, mu = 0, the grid-optimal radius of
@@ -176,6 +176,7 @@ fn run(rt: &Runtime) -> Result<Vec<String>, String> {
     let disc_coupling = match args.get(5).map(String::as_str) {
         None | Some("shape-functions") => DiscCoupling::ShapeFunctions,
         Some("distributing") => DiscCoupling::Distributing,
+        Some("share") => DiscCoupling::Share,
         Some(other) => {
             return Err(format!(
                 "DISC_COUPLING: shape-functions or distributing, got {other}"

@@ -395,6 +395,7 @@ enum WeightingArg {
 enum DiscCouplingArg {
     ShapeFunctions,
     Distributing,
+    Share,
 }
 
 /// The `[reduction]` the sweep flags ask for (none without a count or spacing). Its
@@ -457,6 +458,7 @@ fn reduction_flags(
     spec.disc_coupling = match disc_coupling {
         None | Some(DiscCouplingArg::ShapeFunctions) => DiscCoupling::ShapeFunctions,
         Some(DiscCouplingArg::Distributing) => DiscCoupling::Distributing,
+        Some(DiscCouplingArg::Share) => DiscCoupling::Share,
     };
     spec.area_weighting = area_weighting;
     if let Some(tilt) = tilt {

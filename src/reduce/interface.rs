@@ -72,6 +72,12 @@ pub enum DiscCoupling {
     /// with the pad side's weighting and radius (the paper's reduced disc node, which
     /// stands for a patch of the disc as the pad's stands for a patch of the pad).
     Distributing,
+    /// To the disc surface under the node's share of the pad face: the share's quadrature
+    /// points projected on the disc, each face's shape functions there weighted by the
+    /// point's area over the share's. The tie holds the disc surface's mean displacement
+    /// over the share, and spreads the share's force over it as a uniform pressure, where
+    /// the other two put it on one point or on the coupling's weights.
+    Share,
 }
 
 /// How to reduce the interface.
@@ -182,14 +188,39 @@ pub fn radius_for(choice: RadiusChoice, weighting: Weighting, h: f64) -> Result<
 
 /// The disc face nodes and weights each disc node is tied to (see [`DiscCoupling`]), the
 /// disc nodes at `hits` on the master surface.
+#[allow(clippy::too_many_arguments)]
 fn disc_ties(
     mesh: &crate::mesh::Mesh,
     master: &crate::mesh::Surface,
     hits: &[crate::contact::project::SurfaceHit],
     radius: f64,
     settings: &InterfaceSettings,
+    grid: &super::grid::ContactGrid,
+    search: &SurfaceSearch,
+    reach: f64,
 ) -> Result<Vec<Vec<(usize, f64)>>, ReduceError> {
     match settings.disc_coupling {
+        DiscCoupling::Share => grid
+            .nodes
+            .iter()
+            .zip(hits)
+            .map(|(node, hit)| {
+                let axes = grid.plane.axes;
+                let area: f64 = node.patch.iter().map(|p| p.1).sum();
+                let mut weights = std::collections::BTreeMap::new();
+                for &(xi, a) in &node.patch {
+                    let at = [0, 1, 2]
+                        .map(|c| node.position[c] + xi[0] * axes[0][c] + xi[1] * axes[1][c]);
+                    // A quadrature point past the disc's edge takes the node's own point.
+                    let h = search.nearest(at, 1e-6, reach).unwrap_or(*hit);
+                    let face = &master.faces[h.face];
+                    for (&n, w) in face.nodes.iter().zip(crate::fem::tet10::face_shape(h.q)) {
+                        *weights.entry(n).or_insert(0.0) += w * a / area;
+                    }
+                }
+                Ok(weights.into_iter().collect())
+            })
+            .collect(),
         DiscCoupling::ShapeFunctions => Ok(hits
             .iter()
             .map(|hit| {
@@ -383,7 +414,7 @@ pub fn reduce_interface(
                     })
             })
             .collect::<Result<Vec<_>, _>>()?;
-        let disc_ties = disc_ties(mesh, master, &hits, radius, settings)?;
+        let disc_ties = disc_ties(mesh, master, &hits, radius, settings, &grid, &search, reach)?;
         let disc_patches = if settings.tilt {
             disc_patches(mesh, master, &hits, radius, settings, grid.plane.axes)?
         } else {
@@ -513,11 +544,17 @@ mod tests {
     }
 
     /// The disc node's tie: its weights add up to 1 (so the tie spring stores no energy under
-    /// a rigid translation), every weight of a distributing tie is positive and within R.
+    /// a rigid translation), every weight of a distributing tie is positive and within R, a
+    /// share tie's weighted position is its quadrature points' centroid on the disc face.
     #[test]
     fn disc_ties_are_normalised_and_hold_a_rigid_translation() {
         let model = tiny();
-        for disc in [DiscCoupling::ShapeFunctions, DiscCoupling::Distributing] {
+        let disc_couplings = [
+            DiscCoupling::ShapeFunctions,
+            DiscCoupling::Distributing,
+            DiscCoupling::Share,
+        ];
+        for disc in disc_couplings {
             for area_weighting in [false, true] {
                 let r = reduce_interface(&model, &settings(22, disc, area_weighting)).unwrap();
                 let translation = [1e-3, -2e-3, 5e-4];
@@ -535,14 +572,35 @@ mod tests {
                                 assert!(norm(sub(model.mesh.nodes[n], d)) < pad.radius);
                             }
                         } else {
-                            // The face's shape functions put the tie exactly at d.
                             let x = tie.iter().fold([0.0; 3], |a, &(n, w)| {
                                 crate::vector3::add(
                                     a,
                                     crate::vector3::scale(w, model.mesh.nodes[n]),
                                 )
                             });
-                            assert!(norm(sub(x, d)) < 1e-12 * norm(d), "{x:?} vs {d:?}");
+                            let node = &pad.grid.nodes[k];
+                            let target = if disc == DiscCoupling::Share {
+                                // The shape functions reproduce the face's geometry: the
+                                // weighted position is the projected points' centroid, in
+                                // the (flat) disc face's plane the share's own centroid.
+                                let area: f64 = node.patch.iter().map(|p| p.1).sum();
+                                let e = pad.grid.plane.axes;
+                                let mut c = node.position;
+                                for &(xi, a) in &node.patch {
+                                    for i in 0..3 {
+                                        c[i] += a / area * (xi[0] * e[0][i] + xi[1] * e[1][i]);
+                                    }
+                                }
+                                // Onto the face: d's height along the disc axis (z).
+                                [c[0], c[1], d[2]]
+                            } else {
+                                // The face's shape functions put the tie exactly at d.
+                                d
+                            };
+                            assert!(
+                                norm(sub(x, target)) < 1e-12 * norm(d),
+                                "{disc:?}: {x:?} vs {target:?}"
+                            );
                         }
                     }
                 }
@@ -629,13 +687,30 @@ mod tests {
             distance: 0.0,
         };
         let s = settings(6, DiscCoupling::Distributing, false);
-        let err = disc_ties(&model.mesh, master, &[hit], 1e-5, &s)
-            .unwrap_err()
-            .to_string();
+        let faces: Vec<[[f64; 3]; 6]> = master
+            .faces
+            .iter()
+            .map(|f| f.nodes.map(|n| model.mesh.nodes[n]))
+            .collect();
+        let search = SurfaceSearch::new(faces).unwrap();
+        let reach = search.mean_face_size();
+        let ties = |radius: f64| {
+            disc_ties(
+                &model.mesh,
+                master,
+                &[hit],
+                radius,
+                &s,
+                &pad.grid,
+                &search,
+                reach,
+            )
+        };
+        let err = ties(1e-5).unwrap_err().to_string();
         assert!(
             err.contains(&master.name) && err.contains("disc-side") && err.contains("catches"),
             "{err}"
         );
-        assert!(disc_ties(&model.mesh, master, &[hit], pad.radius, &s).is_ok());
+        assert!(ties(pad.radius).is_ok());
     }
 }

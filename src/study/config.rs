@@ -1293,6 +1293,9 @@ mod tests {
         .unwrap();
         assert_eq!(r.settings().disc_coupling, DiscCoupling::Distributing);
         assert!(r.settings().area_weighting);
+        let r: ReductionSpec =
+            toml::from_str("contact_nodes_per_pad = 6\ndisc_coupling = \"share\"\n").unwrap();
+        assert_eq!(r.settings().disc_coupling, DiscCoupling::Share);
         let p = write(
             "disc.toml",
             "[reduction]\ncontact_nodes_per_pad = 6\ndisc_coupling = \"glued\"\n",
