@@ -100,29 +100,17 @@ fn interfaces(
         if !model.swept[i] {
             continue;
         }
-        out.push((
-            pair.settings.name.clone(),
-            pair_moments(pair, &solved, i, u)?,
-        ));
+        out.push((pair.settings.name.clone(), pair_moments(pair, u)?));
     }
     Ok((out, solved))
 }
 
-fn pair_moments(
-    pair: &ContactPair,
-    solved: &statics::StaticSolution,
-    index: usize,
-    u: &[[f64; 3]],
-) -> Result<Moments, String> {
+/// A swept pair's moments for displacements `u`. Swept pairs slide steadily: they have no
+/// slip history, and the anchor is ignored.
+fn pair_moments(pair: &ContactPair, u: &[[f64; 3]]) -> Result<Moments, String> {
     let mut m = Moments::default();
-    for (k, point) in pair.points.iter().enumerate() {
-        // Swept pairs slide steadily: no anchor (usize::MAX: another model's pair).
-        let anchor = if index == usize::MAX {
-            [0.0; 3]
-        } else {
-            solved.slip_before.anchor(index, k)
-        };
-        let state = contact::point_state(pair, point, anchor, u).map_err(|e| e.to_string())?;
+    for point in &pair.points {
+        let state = contact::point_state(pair, point, [0.0; 3], u).map_err(|e| e.to_string())?;
         m.force += state.normal_force;
         match &point.tilt {
             None => {
@@ -227,7 +215,7 @@ fn run(rt: &Runtime) -> Result<Vec<String>, String> {
     let mut c = Vec::new();
     for (i, pair) in full.pairs.iter().enumerate() {
         if full.swept[i] {
-            let m = pair_moments(pair, &solved, usize::MAX, &solved.displacement)?;
+            let m = pair_moments(pair, &solved.displacement)?;
             c.push((pair.settings.name.clone(), m));
         }
     }

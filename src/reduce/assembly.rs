@@ -439,8 +439,10 @@ impl<'se> Assembly<'se> {
             .collect();
         let mut pair = local.clone();
         pair.settings.friction = friction;
-        // The local pair's nodes are 0..4 and u holds four: the lookup cannot fail.
-        contact::evaluate(&pair, &pair.points[0], [0.0; 3], &u).ok()
+        // Not `.ok()`: a `None` here would read as a point contact and take the cubic law.
+        let evaluated = contact::evaluate(&pair, &pair.points[0], [0.0; 3], &u)
+            .expect("a patch pair's local nodes are 0..4 and u holds four");
+        Some(evaluated)
     }
 
     /// Every pair's state for q.
@@ -1207,8 +1209,8 @@ mod tests {
         assert_eq!(se.boundary_offsets(), vec![0, 6]);
         assert_eq!(se.boundary_size(), 18);
         let asm = Assembly::new(&se, &CubicContact::default()).unwrap();
-        // Partly closed at q_s: theta = -5e-4 puts the gap at -1e-6 + 5e-4 * 3.75e-3 > 0 on
-        // the column xi_1 = -3.75 mm, which is open; the other three columns carry
+        // Partly closed at q_s: theta = e_1 . (u_rp - u_rd) / arm = +5e-4 puts the gap at
+        // -1e-6 + 5e-4 * 3.75e-3 > 0 on the column xi_1 = +3.75 mm, which is open; the other three columns carry
         // k a (0.375 + 1.625 + 2.875) 1e-6 each 4 times, k a = 1e12 * 1e-4 / 16: 121.875 N,
         // where the whole patch closed would carry k A d = 100 N.
         let states = asm.pair_states(&se.equilibrium);
@@ -1219,7 +1221,7 @@ mod tests {
         assert!(states[0].closed && (states[0].force - 200.0).abs() <= 1e-12 * 200.0);
         assert!(asm.equilibrium_residual(MU_SE) <= 1e-12);
         // Central differences as in the point-contact test; the patch's closed set does not
-        // change within h = 1e-12 m (its nearest point is 2.5e-7 m from g = 0).
+        // change within h = 1e-12 m (its nearest point is 3.75e-7 m from g = 0).
         for mu in [MU_SE, 0.7] {
             let q = &se.equilibrium;
             let j = asm.jacobian(q, mu);

@@ -137,25 +137,6 @@ impl<'rt> SuperElementModel<'rt> {
             .enumerate()
             .filter_map(|(i, &s)| s.then_some(i))
             .collect();
-        let patch_laws = swept
-            .iter()
-            .any(|&i| base.model.pairs[i].points.iter().any(|p| p.tilt.is_some()));
-        if patch_laws && reduction.k_linear.is_some() {
-            return Err(StudyError::collective(StudyError::BadFlag {
-                flag: "--k-linear (reduction.k_linear)",
-                why: "the reduced contacts carry patch laws (--tilt), the model's own penalty \
-                      over each share: a cubic law's k_l cannot be set with them"
-                    .into(),
-            }));
-        }
-        if patch_laws && reduction.k_cubic.is_some_and(|k| k != 0.0) {
-            return Err(StudyError::collective(StudyError::BadFlag {
-                flag: "--k-cubic (reduction.k_cubic)",
-                why: "the reduced contacts carry patch laws (--tilt), the model's own penalty \
-                      over each share: a cubic law's k_nl cannot be set with them"
-                    .into(),
-            }));
-        }
         if let Some(k_linear) = reduction.k_linear {
             check_k_linear(&base.model, &swept, k_linear).map_err(StudyError::collective)?;
         }
