@@ -118,6 +118,18 @@ fn same_numbers(a: &[f64], b: &[f64]) {
     }
 }
 
+/// The example study's stages, in the order they run.
+const STAGES: [&str; 8] = [
+    "frictionless-full",
+    "frictionless-reduced-22",
+    "compare-frictionless",
+    "full",
+    "reduced-22",
+    "superelements-single-22",
+    "compare-reduced",
+    "compare-superelements",
+];
+
 #[test]
 fn a_study_runs_its_stages_reports_them_and_reruns_only_what_changed() {
     let dir = scratch("study", "stages");
@@ -125,7 +137,7 @@ fn a_study_runs_its_stages_reports_them_and_reruns_only_what_changed() {
     let out = dir.join("out");
     let (f, o) = (file.to_str().unwrap(), out.to_str().unwrap());
     let first = success(&["study", f, "-o", o]);
-    assert_eq!(running(&first).len(), 5, "{first}");
+    assert_eq!(running(&first).len(), STAGES.len(), "{first}");
     assert_eq!(cached(&first), 0, "{first}");
 
     // The report's numbers are the comparison's: each row of compare.json, printed.
@@ -176,6 +188,43 @@ fn a_study_runs_its_stages_reports_them_and_reruns_only_what_changed() {
         let line = format!("| {:.1} Hz |", i["frequency_hz_at_max"].as_f64().unwrap());
         assert!(report.contains(&line), "{line}\n{report}");
     }
+    // Without friction first: every pair's closed zone and the whole band, printed from
+    // compare-frictionless/compare.json.
+    let c = json(&out.join("compare-frictionless").join("compare.json"));
+    assert!(report.contains("## The reduced interfaces without friction (mu = 0)"));
+    let zones = c["zones"].as_array().unwrap();
+    // The tiny brake's two disc/pad pairs (the other pairs' zones are not reduced, and
+    // equal in both models; they are compared all the same).
+    assert!(zones.len() >= 2, "{c}");
+    for z in zones {
+        let row = format!(
+            "| `frictionless-reduced-22` | {} | {:.3} | {:.2} mm |",
+            z["pair"].as_str().unwrap(),
+            z["total"].as_f64().unwrap(),
+            1e3 * z["centroid_offset"].as_f64().unwrap(),
+        );
+        assert!(report.contains(&row), "{row}\nnot in\n{report}");
+    }
+    let spectra = c["spectra"].as_array().unwrap();
+    assert_eq!(spectra.len(), 1, "one model at mu = 0");
+    assert_eq!(spectra[0]["friction"].as_f64(), Some(0.0));
+    let row = format!(
+        "| `frictionless-reduced-22` | {} / {} | {:.2} % |",
+        spectra[0]["reference_modes"],
+        spectra[0]["other_modes"],
+        100.0 * spectra[0]["mean_relative"].as_f64().unwrap()
+    );
+    assert!(report.contains(&row), "{row}\nnot in\n{report}");
+    // No mode is unstable without friction.
+    for stage in ["frictionless-full", "frictionless-reduced-22"] {
+        let sweep = json(&out.join(stage).join("sweep.json"));
+        assert_eq!(
+            sweep["instabilities"].as_array().unwrap().len(),
+            0,
+            "{stage}"
+        );
+    }
+
     // The page holds the same tables and its figures inline.
     assert_eq!(
         html.matches("<table>").count(),
@@ -193,7 +242,7 @@ fn a_study_runs_its_stages_reports_them_and_reruns_only_what_changed() {
     // Nothing changed: every stage from the cache.
     let again = success(&["study", f, "-o", o]);
     assert!(running(&again).is_empty(), "{again}");
-    assert_eq!(cached(&again), 5, "{again}");
+    assert_eq!(cached(&again), STAGES.len(), "{again}");
 
     // A cached result is reused only if it holds what was computed (issue 30, class 2).
     // An eigenvalue edited in place (same length), and a cached point's file deleted: the
@@ -248,7 +297,7 @@ fn a_study_runs_its_stages_reports_them_and_reruns_only_what_changed() {
     assert_eq!(ran.len(), 2, "{changed}");
     assert!(ran[0].contains("super-elements (single)"), "{changed}");
     assert!(ran[1].contains("super-elements against"), "{changed}");
-    assert_eq!(cached(&changed), 3, "{changed}");
+    assert_eq!(cached(&changed), STAGES.len() - 2, "{changed}");
 
     // Crashed in the middle of the full model's sweep, once its first point is kept, a run
     // resumes after the finished points with the same numbers. (Ctrl-C and SIGTERM go
@@ -273,16 +322,16 @@ fn a_study_runs_its_stages_reports_them_and_reruns_only_what_changed() {
         }
     }
     assert!(!resumed.join("report.md").exists());
-    let stages = [
-        "full",
-        "reduced-22",
-        "superelements-single-22",
-        "compare-reduced",
-        "compare-superelements",
-    ];
+    let stages = STAGES;
     let done = |s: &str| resumed.join(format!("{s}.stage.json")).exists();
     let finished = stages.iter().filter(|s| done(s)).count();
-    let unfinished_sweeps: Vec<&str> = stages[..3].iter().filter(|s| !done(s)).copied().collect();
+    let unfinished_sweeps: Vec<&str> = stages
+        .iter()
+        .filter(|s| !s.starts_with("compare-") && !done(s))
+        .copied()
+        .collect();
+    // Without friction, one point; the others sweep two.
+    let sweep_points = |s: &str| if s.starts_with("frictionless-") { 1 } else { 2 };
     let kept: usize = unfinished_sweeps
         .iter()
         .map(|s| kept_points(&resumed, s))
@@ -299,10 +348,17 @@ fn a_study_runs_its_stages_reports_them_and_reruns_only_what_changed() {
     assert_eq!(cached(&rest), finished, "{rest}");
     assert_eq!(running(&rest).len(), stages.len() - finished, "{rest}");
     // The finished points of the interrupted sweeps are reused, only the others computed
-    // (two friction values per sweep).
+    // (two friction values per sweep, one without friction).
     assert_eq!(
         points(&log),
-        (kept, 2 * unfinished_sweeps.len() - kept),
+        (
+            kept,
+            unfinished_sweeps
+                .iter()
+                .map(|s| sweep_points(s))
+                .sum::<usize>()
+                - kept
+        ),
         "{log}"
     );
     same_numbers(&all_eigenvalues(&out), &all_eigenvalues(&resumed));
@@ -452,7 +508,8 @@ fn the_mesh_file_example_runs_and_its_model_is_the_built_in_one() {
         "-o",
         out.to_str().unwrap(),
     ]);
-    assert_eq!(running(&stdout).len(), 5, "{stdout}");
+    // Without friction (two sweeps and their comparison), then the five stages at 0.7.
+    assert_eq!(running(&stdout).len(), 8, "{stdout}");
     assert!(out.join("report.html").is_file());
     let builtin = dir.join("builtin");
     success(&[

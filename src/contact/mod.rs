@@ -12,6 +12,7 @@
 //!   like against CalculiX.
 //! - [`penalty`]: the gap, the contact force and its (unsymmetric) Jacobian at one contact
 //!   point for a displacement field ([`evaluate`]), and a pair's summary ([`summarize`]).
+//! - [`zone`]: the closed zone's normal stiffness and its moments ([`ZoneStiffness`]).
 //!
 //! Small sliding: every contact point keeps, for the whole analysis, the master point it
 //! faced in the reference configuration (its weights `N_j`), the unit normal `n` there and the
@@ -23,6 +24,7 @@ pub mod pair;
 pub mod penalty;
 pub mod project;
 pub mod variant;
+pub mod zone;
 
 pub use coulomb::{SlipHistory, Status};
 pub use pair::{
@@ -35,6 +37,7 @@ pub use penalty::{
 };
 pub use project::{project_on_face, FaceProjection, SearchOptions, SurfaceHit, SurfaceSearch};
 pub use variant::{perturbation_history, CalculixLaw, ContactVariant};
+pub use zone::{zone_stiffness, ZoneRatios, ZoneStiffness};
 
 /// Errors of the contact stage. Every variant names the pair.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]

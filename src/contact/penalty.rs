@@ -30,6 +30,7 @@
 
 use super::coulomb::{self, Status, Tangential};
 use super::pair::{ContactPair, ContactPoint, FrictionLaw, SlidingDirection, Tilt};
+use super::zone::{zone_stiffness, ZoneStiffness};
 use super::ContactError;
 use crate::vector3::{add, cross, dot, norm, scale, sub};
 
@@ -53,6 +54,10 @@ pub struct PointState {
     /// The point's slip anchor after this state (Coulomb pairs; zero otherwise): the history
     /// to carry on when this state is accepted.
     pub anchor: [f64; 3],
+    /// `d normal_force / d overclosure` (the whole share's for a patch law).
+    pub slope: f64,
+    /// The patch's tilt (a patch law's, [`crate::contact::Tilt::theta`]; zero otherwise).
+    pub theta: [f64; 2],
 }
 
 /// A closed point's contribution to the global residual and Jacobian.
@@ -126,6 +131,8 @@ fn state_and_tangential(
         status: if closed { Status::Slip } else { Status::Open },
         friction_force: [0.0; 3],
         anchor: [0.0; 3],
+        slope,
+        theta,
     };
     match pair.settings.law {
         FrictionLaw::SteadySliding => {
@@ -381,6 +388,8 @@ pub struct PairSummary {
     pub effective_radius: f64,
     /// `None` when no point is closed.
     pub pressure: Option<PressureRange>,
+    /// The closed zone's normal stiffness and its moments ([`super::zone`]).
+    pub zone: ZoneStiffness,
 }
 
 /// Totals and pressure range of `pair` for nodal displacements `u` and the pair's slip
@@ -414,6 +423,7 @@ pub fn summarize_states(pair: &ContactPair, states: &[PointState]) -> PairSummar
         braking_torque: 0.0,
         effective_radius: 0.0,
         pressure: None,
+        zone: zone_stiffness(pair, states),
     };
     let axis = match &pair.settings.sliding {
         SlidingDirection::DiscRotation { centre, axis, .. } => {

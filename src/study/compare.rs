@@ -19,6 +19,7 @@
 //! part, from the folders' contact.json) is taken; without shapes, the nearest in frequency.
 
 use crate::analysis::spectrum_match::{match_spectra, SpectrumMatch};
+use crate::contact::ZoneRatios;
 use crate::study::report::write_atomically;
 use std::path::{Path, PathBuf};
 
@@ -190,6 +191,10 @@ pub struct Comparison {
     /// with the reference's ([`match_spectra`]): how far the whole spectrum moved, stable
     /// modes included (at mu = 0 the interface's stiffness alone).
     pub spectra: Vec<SpectrumComparison>,
+    /// Each pair's closed zone against the reference's, per model and shared friction value
+    /// where both sweeps wrote it: what holds the pads, before any mode is computed.
+    #[serde(default)]
+    pub zones: Vec<ZoneComparison>,
     /// What the comparison should be read with (models of other brakes).
     pub warnings: Vec<String>,
 }
@@ -201,6 +206,43 @@ pub struct SpectrumComparison {
     pub friction: f64,
     #[serde(flatten)]
     pub spectrum: SpectrumMatch,
+}
+
+/// One pair's closed zone against the reference's at one friction value.
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+pub struct ZoneComparison {
+    pub model: String,
+    pub friction: f64,
+    pub pair: String,
+    /// Contact points of the pair in the reference and in the model: the pairs a reduction
+    /// changed are those whose counts differ. (Read as [0, 0] from a comparison written
+    /// before it was.)
+    #[serde(default)]
+    pub points: [usize; 2],
+    #[serde(flatten)]
+    pub ratios: ZoneRatios,
+}
+
+/// The zones of the pairs both points report, by name.
+fn compare_zones(model: &str, reference: &Point, other: &Point) -> Vec<ZoneComparison> {
+    let mut out = Vec::new();
+    for r in &reference.contact {
+        let Some(o) = other.contact.iter().find(|o| o.name == r.name) else {
+            continue;
+        };
+        if let (Some(zr), Some(zo)) = (&r.zone, &o.zone) {
+            if let Some(ratios) = zo.against(zr) {
+                out.push(ZoneComparison {
+                    model: model.to_string(),
+                    friction: reference.friction,
+                    pair: r.name.clone(),
+                    points: [r.points, o.points],
+                    ratios,
+                });
+            }
+        }
+    }
+    out
 }
 
 fn read_contact(dir: &Path, mu: f64) -> Option<crate::study::sweep::ContactMap> {
@@ -598,6 +640,7 @@ pub fn compare(reference: &Path, others: &[PathBuf]) -> Result<Comparison, Compa
     let mut extra = Vec::new();
     let mut statics = Vec::new();
     let mut spectra = Vec::new();
+    let mut zones = Vec::new();
     for dir in others {
         let o = Sweep::read(dir)?;
         let name = dir.display().to_string();
@@ -623,6 +666,7 @@ pub fn compare(reference: &Path, others: &[PathBuf]) -> Result<Comparison, Compa
         }
         for &(k, j) in &shared {
             statics.extend(compare_statics(reference, dir, r.points[k].friction));
+            zones.extend(compare_zones(&name, &r.points[k], &o.points[j]));
             let frequencies =
                 |p: &Point| -> Vec<f64> { p.eigenvalues.iter().map(|m| m.frequency_hz).collect() };
             spectra.push(SpectrumComparison {
@@ -735,6 +779,7 @@ pub fn compare(reference: &Path, others: &[PathBuf]) -> Result<Comparison, Compa
         extra,
         statics,
         spectra,
+        zones,
         warnings,
     })
 }
@@ -900,6 +945,29 @@ impl Comparison {
                     100.0 * c.state_agreement,
                     l2.join(", "),
                     nodal.join(", ")
+                ));
+            }
+        }
+        if !self.zones.is_empty() {
+            s.push_str(
+                "\n## What holds the pads: the closed contact zone's normal stiffness\n\n\
+                 Per pair, over the reference's: the closed zone's normal stiffness (sum of \
+                 k_n a over its closed points), how far its centroid moved, and its second \
+                 moments about the reference's centroid along the reference's principal axes \
+                 (rocking about the axis of least, then most, resistance).\n\n\
+                 | model | mu | pair | normal stiffness | centroid moved | rocking (least, most) |\n\
+                 |---|---|---|---|---|---|\n",
+            );
+            for z in &self.zones {
+                let r = &z.ratios;
+                s.push_str(&format!(
+                    "| `{}` | {:.2} | {} | {:.3} | {:.2} mm | {} |\n",
+                    z.model,
+                    z.friction,
+                    z.pair,
+                    r.total,
+                    1e3 * r.centroid_offset,
+                    r.rocking_text()
                 ));
             }
         }

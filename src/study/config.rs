@@ -177,6 +177,15 @@ pub struct ComparisonSpec {
     /// `contact_nodes_per_pad`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub superelement_contact_nodes_per_pad: Option<usize>,
+    /// First compare the full model and each reduced interface without friction (mu = 0,
+    /// one point each): the closed contact zones and the real modes, before any friction
+    /// value is run.
+    #[serde(default = "yes")]
+    pub frictionless: bool,
+}
+
+fn yes() -> bool {
+    true
 }
 
 fn default_grids() -> Vec<usize> {
@@ -192,6 +201,7 @@ impl Default for ComparisonSpec {
             contact_nodes_per_pad: default_grids(),
             superelements: all_strategies(),
             superelement_contact_nodes_per_pad: None,
+            frictionless: true,
         }
     }
 }

@@ -16,6 +16,8 @@
 //! ([`crate::study::sweep::point_cache`]), so a sweep stopped part-way resumes after its last
 //! finished point, and a sweep rerun with more friction values computes only the new ones.
 
+mod block;
+mod frictionless;
 mod inputs;
 pub mod record;
 pub mod report;
@@ -69,6 +71,7 @@ pub mod quick {
             contact_nodes_per_pad: vec![10, 22],
             superelements: vec![Strategy::Single, Strategy::PerFriction, Strategy::Adaptive],
             superelement_contact_nodes_per_pad: None,
+            frictionless: true,
         }
     }
 }

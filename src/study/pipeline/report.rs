@@ -6,6 +6,7 @@
 //! The report is a list of [`Block`]s rendered twice, as Markdown and as HTML, so the two
 //! cannot drift apart.
 
+pub use super::block::Block;
 use super::stage::{Stage, Work};
 use super::Outcome;
 use crate::study::compare::Comparison;
@@ -15,19 +16,6 @@ use crate::study::results::{DocumentError, SweepDocument};
 use crate::study::StudyError;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
-
-/// A piece of the report.
-#[derive(Clone, Debug, PartialEq)]
-pub enum Block {
-    Heading(usize, String),
-    Paragraph(String),
-    Table {
-        header: Vec<String>,
-        rows: Vec<Vec<String>>,
-    },
-    /// An SVG figure: the path relative to the report, and its caption.
-    Figure(PathBuf, String),
-}
 
 /// The report, in blocks, and the closing summary apart (also printed on screen).
 pub struct Report {
@@ -241,6 +229,18 @@ impl Report {
             }
         }
 
+        // Without friction first: how the reduced interfaces hold the pads.
+        let mut frictionless_summary = Vec::new();
+        if let Some(stage) = stages
+            .iter()
+            .find(|s| s.name == super::stage::COMPARE_FRICTIONLESS)
+        {
+            let c = read_comparison(&out.join(&stage.name))?;
+            let (b, s) = super::frictionless::section(&c, &stage.name);
+            blocks.extend(b);
+            frictionless_summary = s;
+        }
+
         // The comparisons (Tables 4-7 analogues).
         // Per full-model instability (its frequency, as printed): the models that have it.
         // A model compared with a reduced interface (a super-element) is traced back through
@@ -252,6 +252,9 @@ impl Report {
             let Work::Compare(inputs) = &stage.work else {
                 continue;
             };
+            if stage.name == super::stage::COMPARE_FRICTIONLESS {
+                continue;
+            }
             let c = read_comparison(&out.join(&stage.name))?;
             let tables = if stage.name == "compare-reduced" {
                 "the paper's Tables 4-5"
@@ -446,6 +449,7 @@ impl Report {
                 closing.push(format!("- {line}; found by: {by}"));
             }
         }
+        closing.extend(frictionless_summary);
         blocks.push(Block::Heading(2, "Summary".into()));
         for line in &closing {
             blocks.push(Block::Paragraph(line.clone()));

@@ -36,6 +36,11 @@ pub struct Stage {
     pub point_key: String,
 }
 
+/// The prefix of the stages without friction (their folders and their comparison's).
+pub const FRICTIONLESS: &str = "frictionless-";
+/// The comparison of the reduced interfaces against the full model without friction.
+pub const COMPARE_FRICTIONLESS: &str = "compare-frictionless";
+
 /// The version that goes into every key: results of another squeal are not reused.
 pub fn version() -> String {
     format!("squeal {}", env!("CARGO_PKG_VERSION"))
@@ -91,11 +96,58 @@ pub fn plan(study: &Study, mesh_hash: &str) -> Vec<Stage> {
         title,
         work: Work::Sweep(Box::new(s)),
     };
-    let mut stages = vec![sweep_stage(
+    let compare_stage = |name: &str, title: String, inputs: Vec<String>, all: &[Stage]| {
+        let keys: Vec<&str> = inputs
+            .iter()
+            .filter_map(|i| all.iter().find(|s| &s.name == i).map(|s| s.key.as_str()))
+            .collect();
+        Stage {
+            name: name.into(),
+            title,
+            key: text_hash(&format!("{}\ncompare {inputs:?}\n{keys:?}", version())),
+            point_key: String::new(),
+            work: Work::Compare(inputs),
+        }
+    };
+    let base = study.reduction.as_ref();
+    let mut stages = Vec::new();
+    // First, without friction: how well each reduced interface holds the pads (its closed
+    // zone) and what that does to the real modes, before any friction value is run.
+    if comparison.frictionless && !comparison.contact_nodes_per_pad.is_empty() {
+        let frictionless = |name: &str, reduction: Option<ReductionSpec>| {
+            let mut s = derived(name, reduction);
+            s.analysis.friction = vec![0.0];
+            s
+        };
+        let mut inputs = vec![format!("{FRICTIONLESS}full")];
+        stages.push(sweep_stage(
+            inputs[0].clone(),
+            "full model without friction (mu = 0)".into(),
+            frictionless(&inputs[0], None),
+        ));
+        for &n in &comparison.contact_nodes_per_pad {
+            let name = format!("{FRICTIONLESS}reduced-{n}");
+            let s = frictionless(&name, Some(reduced_interface(base, n)));
+            stages.push(sweep_stage(
+                name.clone(),
+                format!("reduced interface, {n} nodes per pad, without friction"),
+                s,
+            ));
+            inputs.push(name);
+        }
+        let c = compare_stage(
+            COMPARE_FRICTIONLESS,
+            "reduced interfaces against the full model without friction".into(),
+            inputs,
+            &stages,
+        );
+        stages.push(c);
+    }
+    stages.push(sweep_stage(
         "full".into(),
         "full model".into(),
         derived("full", None),
-    )];
+    ));
     let base = study.reduction.as_ref();
     for &n in &comparison.contact_nodes_per_pad {
         let name = format!("reduced-{n}");
@@ -141,19 +193,6 @@ pub fn plan(study: &Study, mesh_hash: &str) -> Vec<Stage> {
             ));
         }
     }
-    let compare_stage = |name: &str, title: String, inputs: Vec<String>, all: &[Stage]| {
-        let keys: Vec<&str> = inputs
-            .iter()
-            .filter_map(|i| all.iter().find(|s| &s.name == i).map(|s| s.key.as_str()))
-            .collect();
-        Stage {
-            name: name.into(),
-            title,
-            key: text_hash(&format!("{}\ncompare {inputs:?}\n{keys:?}", version())),
-            point_key: String::new(),
-            work: Work::Compare(inputs),
-        }
-    };
     let reduced: Vec<String> = stages
         .iter()
         .filter(|s| s.name.starts_with("reduced-"))
@@ -201,6 +240,7 @@ mod tests {
             contact_nodes_per_pad: vec![6, 22],
             superelements: vec![Strategy::Single, Strategy::Adaptive],
             superelement_contact_nodes_per_pad: None,
+            frictionless: true,
         });
         s
     }
@@ -210,11 +250,15 @@ mod tests {
     }
 
     #[test]
-    fn the_stages_run_full_then_reduced_then_superelements_then_comparisons() {
+    fn the_stages_run_frictionless_then_full_then_reduced_then_superelements_then_comparisons() {
         let names: Vec<String> = keys(&study()).into_iter().map(|k| k.0).collect();
         assert_eq!(
             names,
             [
+                "frictionless-full",
+                "frictionless-reduced-6",
+                "frictionless-reduced-22",
+                "compare-frictionless",
                 "full",
                 "reduced-6",
                 "reduced-22",
@@ -259,6 +303,17 @@ mod tests {
             changed(&s),
             ["superelements-single-22", "compare-superelements"]
         );
+        // The friction values: everything but the stages without friction.
+        let mut s = study();
+        s.analysis.friction = vec![0.2, 0.4];
+        let all: Vec<String> = before.iter().map(|b| b.0.clone()).collect();
+        assert_eq!(changed(&s), all[4..]);
+        // Without them, the rest keep their keys.
+        let mut s = study();
+        s.comparison.as_mut().unwrap().frictionless = false;
+        let names: Vec<String> = keys(&s).into_iter().map(|k| k.0).collect();
+        assert_eq!(names, all[4..]);
+        assert!(keys(&s).iter().zip(&before[4..]).all(|(a, b)| a == b));
         // The band: everything.
         let mut s = study();
         s.analysis.max_frequency_hz = 5000.0;

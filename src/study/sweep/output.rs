@@ -4,7 +4,7 @@
 use super::PointFields;
 use crate::analysis::cea::{ComplexMode, RayleighDamping};
 use crate::analysis::tracking::{self, Instability, SweepPoint, Track};
-use crate::contact::PairSummary;
+use crate::contact::{PairSummary, ZoneStiffness};
 use crate::io::vtu::{Field, VtuWriter};
 use crate::mesh::Mesh;
 use crate::study::report::{create_dir, json_for, write_file};
@@ -166,6 +166,11 @@ pub struct PairReport {
     pub pressure_min: f64,
     pub pressure_max: f64,
     pub pressure_mean: f64,
+    /// The closed zone's normal stiffness and its moments ([`crate::contact::zone`]), by the
+    /// pair's own law; absent where another law decided the states (a super-element's dense
+    /// contacts) and in folders written before it existed.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub zone: Option<ZoneStiffness>,
 }
 
 impl PairReport {
@@ -186,6 +191,7 @@ impl PairReport {
             pressure_min,
             pressure_max,
             pressure_mean,
+            zone: Some(s.zone),
         }
     }
 }

@@ -699,6 +699,10 @@ impl<'rt> FrictionModel<'rt> for SuperElementModel<'rt> {
                             .map(|t| crate::vector3::scale(mu * state.force, t))
                             .unwrap_or_default(),
                         anchor: [0.0; 3],
+                        // Not the pair's own law: the dense law's zone is not reported
+                        // (`PairReport::zone` is cleared below).
+                        slope: 0.0,
+                        theta: [0.0; 2],
                     };
                 }
                 let mut normal_total = 0.0;
@@ -713,7 +717,11 @@ impl<'rt> FrictionModel<'rt> for SuperElementModel<'rt> {
                         if self.swept.contains(&i) {
                             normal_total += summary.normal_force;
                         }
-                        PairReport::new(&p.settings.name, &summary)
+                        let mut report = PairReport::new(&p.settings.name, &summary);
+                        if self.swept.contains(&i) {
+                            report.zone = None;
+                        }
+                        report
                     })
                     .collect();
                 let applied = model.applied_load();
