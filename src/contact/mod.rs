@@ -32,12 +32,12 @@ pub use pair::{
     FrictionLaw, MasterFace, PairSettings, SlidingDirection, Tilt,
 };
 pub use penalty::{
-    evaluate, point_state, summarize, summarize_states, PairSummary, PointContribution, PointState,
-    PressureRange,
+    evaluate, point_state, summarize, summarize_states, zone_stiffness, PairSummary,
+    PointContribution, PointState, PressureRange,
 };
 pub use project::{project_on_face, FaceProjection, SearchOptions, SurfaceHit, SurfaceSearch};
 pub use variant::{perturbation_history, CalculixLaw, ContactVariant};
-pub use zone::{zone_stiffness, ZoneRatios, ZoneStiffness};
+pub use zone::{ZoneRatios, ZoneStiffness};
 
 /// Errors of the contact stage. Every variant names the pair.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]

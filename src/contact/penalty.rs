@@ -30,7 +30,7 @@
 
 use super::coulomb::{self, Status, Tangential};
 use super::pair::{ContactPair, ContactPoint, FrictionLaw, SlidingDirection, Tilt};
-use super::zone::{zone_stiffness, ZoneStiffness};
+use super::zone::ZoneStiffness;
 use super::ContactError;
 use crate::vector3::{add, cross, dot, norm, scale, sub};
 
@@ -467,6 +467,32 @@ pub fn summarize_states(pair: &ContactPair, states: &[PointState]) -> PairSummar
         summary.effective_radius = summary.braking_torque / mu_n;
     }
     summary
+}
+
+/// The closed zone of `pair` in the states `states` (one per point, in order, as
+/// [`super::point_state`] gives them).
+pub fn zone_stiffness(pair: &ContactPair, states: &[PointState]) -> ZoneStiffness {
+    let mut zone = ZoneStiffness::default();
+    for (point, state) in pair.points.iter().zip(states) {
+        if !state.closed {
+            continue;
+        }
+        match &point.tilt {
+            None => zone.add(state.slope, point.position),
+            Some(tilt) => {
+                for &(xi, a) in &tilt.patch {
+                    if state.gap + state.theta[0] * xi[0] + state.theta[1] * xi[1] > 0.0 {
+                        continue;
+                    }
+                    let at = [0, 1, 2].map(|c| {
+                        point.position[c] + xi[0] * tilt.axes[0][c] + xi[1] * tilt.axes[1][c]
+                    });
+                    zone.add(tilt.penalty * a, at);
+                }
+            }
+        }
+    }
+    zone
 }
 
 #[cfg(test)]
@@ -929,6 +955,20 @@ mod tests {
                 "partly closed: {l:?}"
             );
             assert_eq!(check_jacobian(&p, &u), 1);
+            // The closed zone from the summary is the patch law's own closed stiffness and
+            // moments (k0, k1 along the axes, k2), placed at the contact point.
+            let zone = summarize(&p, &[], &u).unwrap().zone;
+            assert!((zone.total / l.k0 - 1.0).abs() < 1e-14, "{zone:?} {l:?}");
+            for a in 0..2 {
+                assert!(
+                    (zone.first[a] - l.k1[a]).abs() < 1e-14 * l.k0,
+                    "{zone:?} {l:?}"
+                );
+                for b in 0..2 {
+                    let k2 = zone.second[a][b];
+                    assert!((k2 - l.k2[a][b]).abs() < 1e-14 * l.k0, "{zone:?} {l:?}");
+                }
+            }
             let c = c.unwrap();
             assert_eq!(c.nodes, vec![0, 1, 2, 3, 4]);
             if mu == 0.0 {
@@ -950,6 +990,14 @@ mod tests {
             ];
             let s = point_state(&p, &p.points[0], [0.0; 3], &flat).unwrap();
             assert!((s.normal_force / (5e10 * 0.04 * 1e-4) - 1.0).abs() < 1e-12);
+            // ... and the whole share closed, centred where its points are.
+            let zone = summarize(&p, &[], &flat).unwrap().zone;
+            assert!((zone.total / (5e10 * 0.04) - 1.0).abs() < 1e-12);
+            let c = zone.centroid().unwrap();
+            assert!(
+                (c[0] + 0.09).abs() < 1e-12 && (c[1] - 0.013).abs() < 1e-12,
+                "{c:?}"
+            );
         }
     }
 }

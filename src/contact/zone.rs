@@ -7,10 +7,7 @@
 //! `k` is the slope of the normal force with the overclosure at each closed point: `k_n A`
 //! for squeal's penalty law, the smoothed law's slope for CalculiX's, and for a patch law
 //! ([`super::Tilt`]) `k_n a_j` at each closed quadrature point of its share, at the share's own
-//! position.
-
-use super::pair::ContactPair;
-use super::penalty::PointState;
+//! position ([`super::penalty::zone_stiffness`] sums a pair's states).
 
 /// `sum k`, `sum k x` and `sum k x x^T` over a zone's closed points (global coordinates).
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -106,32 +103,6 @@ impl ZoneStiffness {
             rocking,
         })
     }
-}
-
-/// The closed zone of `pair` in the states `states` (one per point, in order, as
-/// [`super::point_state`] gives them).
-pub fn zone_stiffness(pair: &ContactPair, states: &[PointState]) -> ZoneStiffness {
-    let mut zone = ZoneStiffness::default();
-    for (point, state) in pair.points.iter().zip(states) {
-        if !state.closed {
-            continue;
-        }
-        match &point.tilt {
-            None => zone.add(state.slope, point.position),
-            Some(tilt) => {
-                for &(xi, a) in &tilt.patch {
-                    if state.gap + state.theta[0] * xi[0] + state.theta[1] * xi[1] > 0.0 {
-                        continue;
-                    }
-                    let at = [0, 1, 2].map(|c| {
-                        point.position[c] + xi[0] * tilt.axes[0][c] + xi[1] * tilt.axes[1][c]
-                    });
-                    zone.add(tilt.penalty * a, at);
-                }
-            }
-        }
-    }
-    zone
 }
 
 #[cfg(test)]

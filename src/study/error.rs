@@ -16,7 +16,7 @@ use crate::petsc::PetscError;
 use crate::reduce::assembly::AssemblyError as DenseAssemblyError;
 use crate::reduce::superelement_file::SuperElementFileError;
 use crate::reduce::{CoordinatesError, ReduceError, SuperElementError};
-use crate::study::compare::CompareError;
+use crate::study::compare::error::CompareError;
 use crate::study::config::ConfigError;
 use std::path::PathBuf;
 

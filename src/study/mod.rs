@@ -13,6 +13,7 @@ pub mod interrupt;
 pub mod manifest;
 pub mod modes;
 pub mod ownership;
+pub mod paths;
 pub mod pipeline;
 pub mod plot;
 pub mod progress;

@@ -193,7 +193,7 @@ pub fn claim(output: &Path, claim: &Claim) -> Result<OutputLock, StudyError> {
         path: output.to_path_buf(),
         why,
     };
-    if let Some(why) = super::staging::file_among_ancestors(output) {
+    if let Some(why) = super::paths::file_among_ancestors(output) {
         return Err(in_the_way(why));
     }
     if let Some(why) = input_problem(output, &claim.inputs) {
@@ -216,7 +216,7 @@ pub struct OutputLock {
 
 /// `<output>.lock`, beside the output.
 pub fn lock_path(output: &Path) -> PathBuf {
-    super::staging::beside(output, ".lock")
+    super::paths::beside(output, ".lock")
 }
 
 impl OutputLock {

@@ -34,7 +34,7 @@ pub fn create_dir(dir: &Path) -> Result<(), StudyError> {
 /// [`std::fs::create_dir_all`], saying which file is in the way instead of the OS's "File
 /// exists (os error 17)" or "Not a directory (os error 20)".
 pub(super) fn create_dir_all(dir: &Path) -> std::io::Result<()> {
-    match super::staging::not_a_folder(dir) {
+    match super::paths::not_a_folder(dir) {
         Some(why) => Err(std::io::Error::new(std::io::ErrorKind::InvalidInput, why)),
         None => std::fs::create_dir_all(dir),
     }
@@ -83,7 +83,7 @@ pub fn output_file_problem(path: &Path) -> Option<String> {
     if path.is_dir() {
         Some(format!("{} is a folder", path.display()))
     } else {
-        super::staging::file_among_ancestors(path)
+        super::paths::file_among_ancestors(path)
     }
 }
 

@@ -11,6 +11,7 @@
 
 pub use super::ownership::Claim;
 use super::ownership::{self, OutputLock};
+use super::paths::beside;
 use super::report::collective;
 use super::StudyError;
 use crate::petsc::Comm;
@@ -54,16 +55,6 @@ pub struct Staging {
 /// `<output>.partial`, beside the output (the same file system, so a rename moves it).
 pub fn partial_path(output: &Path) -> PathBuf {
     beside(output, ".partial")
-}
-
-/// `<output><suffix>`, beside the output.
-pub fn beside(output: &Path, suffix: &str) -> PathBuf {
-    let mut name = output
-        .file_name()
-        .map(|n| n.to_os_string())
-        .unwrap_or_else(|| "squeal-out".into());
-    name.push(suffix);
-    output.with_file_name(name)
 }
 
 impl Staging {
@@ -189,22 +180,6 @@ fn prepare(output: &Path, partial: &Path, claim: &Claim) -> Result<OutputLock, S
     std::fs::create_dir_all(partial).map_err(|source| StudyError::create_dir(partial, source))?;
     ownership::mark(partial, claim.producer)?;
     Ok(lock)
-}
-
-/// Why no folder can be made at `path`'s parent: the nearest of its ancestors that exists is
-/// a file (`-o afile/x.msh` used to say "creating afile: File exists (os error 17)").
-pub(super) fn file_among_ancestors(path: &Path) -> Option<String> {
-    path.parent().and_then(not_a_folder)
-}
-
-/// Why no folder can be made at `dir`: it, or the nearest of its ancestors that exists, is
-/// a file.
-pub(super) fn not_a_folder(dir: &Path) -> Option<String> {
-    let existing = dir
-        .ancestors()
-        .filter(|a| !a.as_os_str().is_empty())
-        .find(|a| std::fs::symlink_metadata(a).is_ok())?;
-    (!existing.is_dir()).then(|| format!("{} is a file, not a folder", existing.display()))
 }
 
 #[cfg(test)]

@@ -1,5 +1,6 @@
 //! `squeal study`: from a brake model to the full-versus-reduced report in one command. It
-//! runs the stages of [`stage::plan`] in order under MPI (the full model's sweep, the
+//! runs the stages of [`stage::plan`] in order under MPI (every model without friction, the
+//! full model's sweep, the
 //! reduced-interface sweeps, the super-element strategies, the comparisons), each into its
 //! own folder under the study's output, and ends with `report.md` and `report.html`.
 //!

@@ -1,4 +1,6 @@
-//! The stages of `squeal study`, in the order they run: the full model's friction sweep, a
+//! The stages of `squeal study`, in the order they run: the full model and each reduced
+//! interface without friction and their comparison (unless `[comparison] frictionless =
+//! false`), the full model's friction sweep, a
 //! reduced-interface sweep per grid size, a super-element sweep per strategy, then the two
 //! comparisons (reduced interfaces against the full model, the paper's Tables 4-5;
 //! super-elements against the reduced interface they were built on, Tables 6-7).

@@ -14,7 +14,8 @@ use crate::model::{self, Model, Operators};
 use crate::petsc::{Comm, Matrix, Vector};
 use crate::study::modes::ModelSummary;
 use crate::study::report::collective;
-use crate::study::sweep::{equilibrium_fields, write_fields, PairReport, UnstableShape};
+use crate::study::results::PairReport;
+use crate::study::sweep::{equilibrium_fields, write_fields, UnstableShape};
 use crate::study::StudyError;
 use std::path::Path;
 

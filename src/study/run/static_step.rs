@@ -10,7 +10,8 @@ use crate::io::abaqus::StaticRequest;
 use crate::model::{self, Model};
 use crate::petsc::Comm;
 use crate::study::report::{create_dir, json_for, write_file};
-use crate::study::sweep::{equilibrium_fields, write_fields, PairReport};
+use crate::study::results::PairReport;
+use crate::study::sweep::{equilibrium_fields, write_fields};
 use crate::study::StudyError;
 use std::path::Path;
 

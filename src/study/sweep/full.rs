@@ -2,10 +2,9 @@
 //! reduced-interface model (a full-size model whose disc/pad interface is reduced). SNES
 //! gives the sliding equilibrium, SLEPc the CEA about it.
 
-use super::output::{ModelInfo, PairReport, SweepPointReport};
 use super::{
-    ContactMap, ContactMapPoint, EquilibriumState, FrictionModel, ModelCheckpoint, PathPoint,
-    PointFields, PointOutcome, SurfacePressure, SurfaceShape, UnstableShape,
+    EquilibriumState, FrictionModel, ModelCheckpoint, PathPoint, PointFields, PointOutcome,
+    UnstableShape,
 };
 use crate::analysis::cea::{self, CeaOptions, RayleighDamping};
 use crate::analysis::restraint::{self, Body};
@@ -18,6 +17,10 @@ use crate::reduce;
 use crate::study::bench::peak_rss_mib;
 use crate::study::config::Study;
 use crate::study::report::collective;
+use crate::study::results::{
+    ContactMap, ContactMapPoint, ModelInfo, PairReport, SurfacePressure, SurfaceShape,
+    SweepPointReport,
+};
 use crate::study::StudyError;
 use num_complex::Complex64;
 use std::time::Instant;

@@ -16,9 +16,7 @@ mod superelement;
 
 pub use checkpoint::{EquilibriumState, ModelCheckpoint, PathPoint, SuperElementState};
 pub use full::{equilibrium_fields, FullModel};
-pub use output::{
-    write_fields, ModelInfo, PairReport, SuperElementInfo, SuperElementPoint, SweepPointReport,
-};
+pub use output::write_fields;
 pub use superelement::{SuperElementModel, SuperElementSettings};
 
 use super::config::{ReductionSpec, Study};
@@ -32,6 +30,7 @@ use crate::analysis::tracking::{self, Instability, SweepPoint, TrackingOptions};
 use crate::mesh::Mesh;
 use crate::petsc::{Comm, Runtime};
 use crate::reduce::Strategy;
+use crate::study::results::{ContactMap, ModelInfo, SweepPointReport};
 use num_complex::Complex64;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -42,54 +41,6 @@ pub struct UnstableShape {
     pub mode: ComplexMode,
     pub re: Vec<[f64; 3]>,
     pub im: Vec<[f64; 3]>,
-}
-
-/// One contact point's state at the equilibrium (contact.json).
-#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
-pub struct ContactMapPoint {
-    pub pair: String,
-    pub position: [f64; 3],
-    pub closed: bool,
-    /// N (the penalty force p of the point).
-    pub normal_force: f64,
-}
-
-/// The contact pressure on one node of a swept pair's slave (pad) surface: a
-/// node-to-surface point's force over its node's tributary area; for a reduced interface,
-/// the reduced contact nodes' pressures (force over tributary area) interpolated to the pad
-/// nodes with the coupling weights, so that a uniform pressure comes back uniform. `squeal
-/// compare` compares two models of the same mesh patch by patch (see its `pressure_l2`).
-#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
-pub struct SurfacePressure {
-    pub pair: String,
-    pub node: usize,
-    pub position: [f64; 3],
-    pub area: f64,
-    pub pressure: f64,
-}
-
-/// An unstable mode's shape on the swept pairs' pad surface nodes: what two models of the
-/// same mesh share, so `squeal compare` can pair their instabilities by the complex MAC.
-#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
-pub struct SurfaceShape {
-    pub frequency_hz: f64,
-    pub real_part: f64,
-    /// Real and imaginary parts, (x, y, z) per node of [`ContactMap::shape_nodes`].
-    pub re: Vec<[f64; 3]>,
-    pub im: Vec<[f64; 3]>,
-}
-
-/// The static contact state of a point (contact.json): every swept pair's contact points,
-/// the pressure on their pad surfaces, and the unstable modes' shapes there.
-#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
-pub struct ContactMap {
-    pub points: Vec<ContactMapPoint>,
-    pub surface: Vec<SurfacePressure>,
-    /// The pad surface nodes (sorted) the shapes are given on.
-    #[serde(default)]
-    pub shape_nodes: Vec<usize>,
-    #[serde(default)]
-    pub unstable_shapes: Vec<SurfaceShape>,
 }
 
 /// Fields on the mesh nodes for a point's VTU file.

@@ -20,9 +20,10 @@
 //! a temporary name and renamed into place whole, so an entry that exists is complete;
 //! temporaries an interruption left are removed by the next [`PointCache::prune`].
 
-use super::{ModelCheckpoint, SweepPointReport};
+use super::ModelCheckpoint;
 use crate::mesh::hash::{bytes_hash, text_hash};
 use crate::study::manifest::Manifest;
+use crate::study::results::SweepPointReport;
 use crate::study::StudyError;
 use num_complex::Complex64;
 use std::path::{Path, PathBuf};

@@ -12,10 +12,9 @@
 //! super-element of a sweep shares.
 
 use super::full::{mesh_part, FullModel};
-use super::output::{ModelInfo, PairReport, SuperElementInfo, SuperElementPoint};
 use super::{
     EquilibriumState, FrictionModel, ModelCheckpoint, PointOutcome, SuperElementState,
-    SweepPointReport, UnstableShape,
+    UnstableShape,
 };
 use crate::analysis::cea::ComplexMode;
 use crate::analysis::statics::{self, Configuration, StaticSolution};
@@ -31,6 +30,9 @@ use crate::reduce::{self, Decision, LocalBasis, ReducedInterface, Strategy};
 use crate::study::bench::peak_rss_mib;
 use crate::study::config::Study;
 use crate::study::report::collective;
+use crate::study::results::{
+    ModelInfo, PairReport, SuperElementInfo, SuperElementPoint, SweepPointReport,
+};
 use crate::study::StudyError;
 use faer::Mat;
 use num_complex::Complex64;

@@ -1,6 +1,7 @@
-//! The typed schema of a sweep folder's `sweep.json`: one document that the sweep writes
-//! ([`crate::study::sweep::output::write_sweep`]) and that `squeal compare` and the study
-//! report read. Before, the writer had its own borrowed struct, compare its own private
+//! The typed schema of a sweep folder: `sweep.json` ([`SweepDocument`]: the model, its points,
+//! tracks and instabilities) and `contact.json` ([`ContactMap`]), each one set of types that
+//! the sweep writes ([`crate::study::sweep::output::write_sweep`]) and that `squeal compare`
+//! and the study report read. Before, the writer had its own borrowed struct, compare its own private
 //! copies of some fields and the report some 40 string lookups into untyped JSON: a field
 //! renamed in the writer turned the report's cell into "-" without a word (issue 31). Now a
 //! rename is a compile error in every reader.
@@ -10,9 +11,16 @@
 //! which counts round-off as growth), and a missing `seconds`, `model.nodes` or
 //! `mu_at_max` reads as 0 (unknown). Anything else missing is refused by name.
 
+mod contact_map;
+mod model;
+mod point;
+
+pub use contact_map::{ContactMap, ContactMapPoint, SurfacePressure, SurfaceShape};
+pub use model::ModelInfo;
+pub use point::{PairReport, SuperElementInfo, SuperElementPoint, SweepPointReport};
+
 use crate::analysis::cea;
 use crate::analysis::tracking::{Instability, Track};
-use crate::study::sweep::{ModelInfo, SweepPointReport};
 use num_complex::Complex64;
 use std::path::{Path, PathBuf};
 
