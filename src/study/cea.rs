@@ -10,6 +10,8 @@ use crate::analysis::cea::{self, CeaOptions, ComplexMode};
 use crate::analysis::operators::matrix_from_entries;
 use crate::io::matrix;
 use crate::petsc::Runtime;
+use crate::study::results::{CeaDocument, MatrixFiles};
+use std::borrow::Cow;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -22,15 +24,6 @@ pub struct CeaArgs {
     pub unstable_threshold: f64,
     pub modes_per_target: usize,
     pub output: PathBuf,
-}
-
-/// The `cea.json` document: one entry per lambda with non-negative frequency.
-#[derive(serde::Serialize)]
-pub struct CeaDocument<'a, M: serde::Serialize> {
-    pub eigenvalues: &'a [ComplexMode],
-    pub unstable: usize,
-    pub max_frequency_hz: f64,
-    pub model: M,
 }
 
 /// The table printed on screen.
@@ -52,7 +45,7 @@ pub fn table(modes: &[ComplexMode]) -> String {
 }
 
 /// Writes cea.json and cea.csv into `dir` (whole or not at all).
-pub fn write_report<M: serde::Serialize>(
+pub fn write_report<M: serde::Serialize + Clone>(
     dir: &Path,
     modes: &[ComplexMode],
     max_frequency_hz: f64,
@@ -60,7 +53,7 @@ pub fn write_report<M: serde::Serialize>(
 ) -> Result<(), StudyError> {
     create_dir(dir)?;
     let doc = CeaDocument {
-        eigenvalues: modes,
+        eigenvalues: Cow::Borrowed(modes),
         unstable: modes.iter().filter(|m| m.unstable).count(),
         max_frequency_hz,
         model,
@@ -76,16 +69,6 @@ pub fn write_report<M: serde::Serialize>(
     }
     write_file(&dir.join("cea.csv"), csv.as_bytes())?;
     Ok(())
-}
-
-#[derive(serde::Serialize)]
-struct MatrixModel {
-    stiffness: String,
-    mass: String,
-    damping: Option<String>,
-    format: String,
-    equations: usize,
-    ranks: usize,
 }
 
 /// Runs `squeal cea` on matrix files (collective); rank 0 prints and writes.
@@ -161,7 +144,7 @@ fn solve_and_write(
     let modes = collective(comm, cea::solve(comm, &k, &m, damping.as_ref(), &options))?.modes;
     if root {
         print!("{}", table(&modes));
-        let model = MatrixModel {
+        let model = MatrixFiles {
             stiffness: args.stiffness.display().to_string(),
             mass: args.mass.display().to_string(),
             damping: args.damping.as_ref().map(|p| p.display().to_string()),

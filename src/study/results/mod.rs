@@ -11,10 +11,12 @@
 //! which counts round-off as growth), and a missing `seconds`, `model.nodes` or
 //! `mu_at_max` reads as 0 (unknown). Anything else missing is refused by name.
 
+mod cea_json;
 mod contact_map;
 mod model;
 mod point;
 
+pub use cea_json::{CeaDocument, DeckStep, FrictionPoint, MatrixFiles};
 pub use contact_map::{ContactMap, ContactMapPoint, SurfacePressure, SurfaceShape};
 pub use model::ModelInfo;
 pub use point::{PairReport, SuperElementInfo, SuperElementPoint, SweepPointReport};

@@ -14,7 +14,7 @@ use crate::model::{self, Model, Operators};
 use crate::petsc::{Comm, Matrix, Vector};
 use crate::study::modes::ModelSummary;
 use crate::study::report::collective;
-use crate::study::results::PairReport;
+use crate::study::results::{DeckStep, PairReport};
 use crate::study::sweep::{equilibrium_fields, write_fields, UnstableShape};
 use crate::study::StudyError;
 use std::path::Path;
@@ -495,7 +495,10 @@ fn complex(
             out,
             &modes,
             band.upper,
-            serde_json::json!({ "base_step": base.step, "contact": pairs }),
+            DeckStep {
+                base_step: base.step,
+                contact: pairs,
+            },
         )?;
         let fields = equilibrium_fields(model, &base.displacement, states, unstable);
         write_fields(out, &model.mesh, &fields, "cea.vtu")?;

@@ -6,7 +6,7 @@ use crate::analysis::tracking::{self, Instability, SweepPoint, Track};
 use crate::io::vtu::{Field, VtuWriter};
 use crate::mesh::Mesh;
 use crate::study::report::{create_dir, json_for, write_file};
-use crate::study::results::{ModelInfo, SweepPointReport};
+use crate::study::results::{FrictionPoint, ModelInfo, SweepPointReport};
 use crate::study::StudyError;
 use std::path::Path;
 
@@ -22,7 +22,10 @@ pub fn write_point(
         dir,
         &report.eigenvalues,
         info.max_frequency_hz,
-        serde_json::json!({ "friction": report.friction, "contact": report.contact }),
+        FrictionPoint {
+            friction: report.friction,
+            contact: report.contact.clone(),
+        },
     )?;
     let Some(fields) = fields else {
         return Ok(());
