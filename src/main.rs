@@ -2,7 +2,7 @@
 //! `squeal::study` per subcommand.
 #![deny(unsafe_code)]
 
-use clap::{Parser, Subcommand, ValueEnum};
+use clap::{Parser, Subcommand};
 use squeal::fem::element::MassRule;
 use squeal::petsc::Runtime;
 use squeal::study;
@@ -37,14 +37,6 @@ struct Cli {
 
     #[command(subcommand)]
     command: Command,
-}
-
-#[derive(Clone, Copy, ValueEnum)]
-enum MassRuleArg {
-    /// Consistent mass integrated exactly (degree-4 rule).
-    Exact,
-    /// The 4-point Gauss rule CalculiX and Abaqus use for C3D10 (to match their numbers).
-    Gauss4,
 }
 
 /// A study and the command line's changes to it (`sweep`, `study`).
@@ -172,13 +164,13 @@ enum Command {
         /// linear law, perturbation tangent), to compare like with like (study key
         /// mesh.contact_variant).
         #[arg(long, value_enum)]
-        contact_variant: Option<ContactVariantArg>,
+        contact_variant: Option<squeal::contact::ContactVariant>,
         /// Sweep Craig-Bampton super-elements of the reduced-interface model, assembled with
         /// node-to-node cubic contact: one made at --superelement-friction (single), one per
         /// friction value (per-friction), or one rebuilt only when a kept contact changes
         /// state (adaptive). Needs a reduced interface.
         #[arg(long, value_enum)]
-        superelements: Option<StrategyArg>,
+        superelements: Option<squeal::reduce::Strategy>,
         /// mu_SE of the single strategy (default 0.5).
         #[arg(long)]
         superelement_friction: Option<f64>,
@@ -216,11 +208,11 @@ enum Command {
         deck: PathBuf,
         /// Consistent-mass integration.
         #[arg(long, value_enum, default_value = "exact")]
-        mass_rule: MassRuleArg,
+        mass_rule: MassRule,
         /// The contact pairs' law: squeal's or CalculiX's (slave areas, smoothed linear law,
         /// perturbation tangent), to compare like with like.
         #[arg(long, value_enum, default_value = "squeal")]
-        contact_variant: ContactVariantArg,
+        contact_variant: squeal::contact::ContactVariant,
         /// Output folder (one folder per step inside, and run.json).
         #[arg(short, long, default_value = "squeal-out")]
         output: PathBuf,
@@ -247,7 +239,7 @@ enum Command {
         materials: Vec<String>,
         /// Consistent-mass integration.
         #[arg(long, value_enum, default_value = "exact")]
-        mass_rule: MassRuleArg,
+        mass_rule: MassRule,
         /// Relative residual tolerance of each mode.
         #[arg(long, default_value_t = 1e-10)]
         tolerance: f64,
@@ -337,14 +329,14 @@ struct InterfaceFlags {
     spacing: Option<f64>,
     /// Distributing coupling weights of the reduced interface.
     #[arg(long, value_enum, default_value = "cubic")]
-    weighting: WeightingArg,
+    weighting: squeal::reduce::Weighting,
     /// Radius of influence: grid-optimal, paper, or a length in mesh units.
     #[arg(long, default_value = "grid-optimal")]
     radius: String,
     /// How each disc node of the reduced interface is tied to the disc face (study key
-    /// reduction.disc_coupling): shape-functions (default) or distributing.
+    /// reduction.disc_coupling; default shape-functions).
     #[arg(long, value_enum)]
-    disc_coupling: Option<DiscCouplingArg>,
+    disc_coupling: Option<squeal::reduce::DiscCoupling>,
     /// Weigh the distributing couplings' nodes by their tributary areas too (study key
     /// reduction.area_weighting; Abaqus 6.10's mesh-size weighting).
     #[arg(long)]
@@ -355,47 +347,6 @@ struct InterfaceFlags {
     /// --k-cubic).
     #[arg(long)]
     tilt: Option<bool>,
-}
-
-/// The contact law variant, as a command-line value.
-#[derive(Clone, Copy, Debug, clap::ValueEnum)]
-enum ContactVariantArg {
-    Squeal,
-    Calculix,
-}
-
-impl From<ContactVariantArg> for squeal::contact::ContactVariant {
-    fn from(v: ContactVariantArg) -> Self {
-        match v {
-            ContactVariantArg::Squeal => squeal::contact::ContactVariant::Squeal,
-            ContactVariantArg::Calculix => squeal::contact::ContactVariant::Calculix,
-        }
-    }
-}
-
-/// The super-element strategy, as a command-line value.
-#[derive(Clone, Copy, Debug, clap::ValueEnum)]
-enum StrategyArg {
-    Single,
-    PerFriction,
-    Adaptive,
-}
-
-/// The coupling weights, as a command-line value.
-#[derive(Clone, Copy, Debug, clap::ValueEnum)]
-enum WeightingArg {
-    Uniform,
-    Linear,
-    Quadratic,
-    Cubic,
-}
-
-/// How the disc nodes are tied, as a command-line value.
-#[derive(Clone, Copy, Debug, clap::ValueEnum)]
-enum DiscCouplingArg {
-    ShapeFunctions,
-    Distributing,
-    Share,
 }
 
 /// The `[reduction]` the sweep flags ask for (none without a count or spacing). Its
@@ -413,7 +364,7 @@ fn reduction_flags(
         area_weighting,
         tilt,
     } = flags.clone();
-    use squeal::reduce::{DiscCoupling, RadiusChoice, Weighting};
+    use squeal::reduce::RadiusChoice;
     if count.is_none() && spacing.is_none() {
         if disc_coupling.is_some() || area_weighting || tilt.is_some() {
             return Err(study::StudyError::BadFlag {
@@ -449,17 +400,8 @@ fn reduction_flags(
     spec.contact_nodes_per_pad = count;
     spec.spacing = spacing;
     spec.radius = radius;
-    spec.weighting = match weighting {
-        WeightingArg::Uniform => Weighting::Uniform,
-        WeightingArg::Linear => Weighting::Linear,
-        WeightingArg::Quadratic => Weighting::Quadratic,
-        WeightingArg::Cubic => Weighting::Cubic,
-    };
-    spec.disc_coupling = match disc_coupling {
-        None | Some(DiscCouplingArg::ShapeFunctions) => DiscCoupling::ShapeFunctions,
-        Some(DiscCouplingArg::Distributing) => DiscCoupling::Distributing,
-        Some(DiscCouplingArg::Share) => DiscCoupling::Share,
-    };
+    spec.weighting = weighting;
+    spec.disc_coupling = disc_coupling.unwrap_or_default();
     spec.area_weighting = area_weighting;
     if let Some(tilt) = tilt {
         spec.tilt = tilt;
@@ -645,13 +587,9 @@ fn main() -> ExitCode {
             args.reduction = reduction;
             args.interaction = interaction;
             args.sliding = sliding_flags(disc_axis, sliding_direction)?;
-            args.contact_variant = contact_variant.map(Into::into);
+            args.contact_variant = contact_variant;
             args.superelements = study::sweep::SuperElementArgs {
-                strategy: superelements.map(|s| match s {
-                    StrategyArg::Single => squeal::reduce::Strategy::Single,
-                    StrategyArg::PerFriction => squeal::reduce::Strategy::PerFriction,
-                    StrategyArg::Adaptive => squeal::reduce::Strategy::Adaptive,
-                }),
+                strategy: superelements,
                 friction: superelement_friction,
                 cutoff_hz: cutoff,
                 k_linear,
@@ -674,11 +612,8 @@ fn main() -> ExitCode {
             &study::run::RunArgs {
                 deck,
                 output,
-                mass_rule: match mass_rule {
-                    MassRuleArg::Exact => MassRule::Exact,
-                    MassRuleArg::Gauss4 => MassRule::Gauss4,
-                },
-                contact_variant: contact_variant.into(),
+                mass_rule,
+                contact_variant,
             },
         )
         .map_err(Into::into),
@@ -711,10 +646,7 @@ fn main() -> ExitCode {
                 count: nev,
                 fixes,
                 materials,
-                mass_rule: match mass_rule {
-                    MassRuleArg::Exact => MassRule::Exact,
-                    MassRuleArg::Gauss4 => MassRule::Gauss4,
-                },
+                mass_rule,
                 output,
                 tolerance,
             },

@@ -50,7 +50,17 @@ use crate::vector3::{cross, norm};
 use std::f64::consts::PI;
 
 /// Which node-to-surface law a pair follows.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    Default,
+    PartialEq,
+    Eq,
+    serde::Serialize,
+    serde::Deserialize,
+    clap::ValueEnum,
+)]
 #[serde(rename_all = "lowercase")]
 pub enum ContactVariant {
     /// squeal's law (METHOD.md section 2).

@@ -10,7 +10,7 @@ use serde::{Deserialize, Serialize};
 
 /// How a coupling node's weight falls with its distance r from the reference point
 /// (`s = r / R`, zero from `s = 1` on).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, clap::ValueEnum)]
 #[serde(rename_all = "lowercase")]
 pub enum Weighting {
     /// `w = 1`: every node within R alike (Abaqus's default).

@@ -57,7 +57,17 @@ pub enum ElementError {
 }
 
 /// Quadrature of the consistent mass matrix.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    Default,
+    PartialEq,
+    Eq,
+    serde::Serialize,
+    serde::Deserialize,
+    clap::ValueEnum,
+)]
 #[serde(rename_all = "lowercase")]
 pub enum MassRule {
     /// 14-point degree-5 rule ([`tet10::WALKINGTON_14`]): exact for straight-sided elements.

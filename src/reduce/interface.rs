@@ -61,7 +61,17 @@ pub enum RadiusChoice {
 }
 
 /// How a disc node d_k is tied to the disc face it lies on.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    Default,
+    PartialEq,
+    Eq,
+    serde::Serialize,
+    serde::Deserialize,
+    clap::ValueEnum,
+)]
 #[serde(rename_all = "kebab-case")]
 pub enum DiscCoupling {
     /// To the six nodes of the face it lies on, by the face's shape functions there: the

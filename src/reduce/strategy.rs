@@ -17,7 +17,7 @@ use crate::contact::Status;
 use serde::{Deserialize, Serialize};
 
 /// How a sweep chooses its super-elements.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
 #[serde(rename_all = "kebab-case")]
 pub enum Strategy {
     Single,
