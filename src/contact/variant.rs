@@ -65,8 +65,10 @@ use std::f64::consts::PI;
 pub enum ContactVariant {
     /// squeal's law (METHOD.md section 2).
     #[default]
+    #[value(help = "squeal's penalty law")]
     Squeal,
     /// CalculiX's (see the module documentation).
+    #[value(help = "CalculiX's: slave areas, smoothed linear law, perturbation tangent")]
     Calculix,
 }
 

@@ -72,10 +72,12 @@ pub enum ElementError {
 pub enum MassRule {
     /// 14-point degree-5 rule ([`tet10::WALKINGTON_14`]): exact for straight-sided elements.
     #[default]
+    #[value(help = "a 14-point rule, exact for straight-sided elements")]
     Exact,
     /// The 4-point Gauss rule ([`tet10::GAUSS_4`]) that CalculiX and Abaqus use, so that
     /// frequencies can be matched to theirs. Not exact for the degree-4 mass integrand, but it
     /// still gives the exact total mass of a straight-sided element.
+    #[value(help = "the 4-point Gauss rule CalculiX and Abaqus use (to match their frequencies)")]
     Gauss4,
 }
 
