@@ -30,6 +30,16 @@ impl ModePair {
     pub fn relative(&self) -> f64 {
         (self.other_hz - self.reference_hz) / self.reference_hz
     }
+
+    /// As a person reads it: "-2.62 % (604.2 Hz for 620.5 Hz)".
+    pub fn shift_text(&self) -> String {
+        format!(
+            "{:+.2} % ({:.1} Hz for {:.1} Hz)",
+            100.0 * self.relative(),
+            self.other_hz,
+            self.reference_hz
+        )
+    }
 }
 
 /// The pairing of two spectra.

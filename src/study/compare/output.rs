@@ -162,14 +162,7 @@ impl Comparison {
             );
             for c in &self.spectra {
                 let m = &c.spectrum;
-                let worst = m.worst.map_or("-".to_string(), |w| {
-                    format!(
-                        "{:+.2} % ({:.1} Hz for {:.1} Hz)",
-                        100.0 * w.relative(),
-                        w.other_hz,
-                        w.reference_hz
-                    )
-                });
+                let worst = m.worst.map_or("-".to_string(), |w| w.shift_text());
                 s.push_str(&format!(
                     "| `{}` | {:.2} | {} / {} | {:.2} % | {} |\n",
                     c.model,

@@ -49,14 +49,7 @@ pub fn section(c: &Comparison, stage: &str) -> (Vec<Block>, Vec<String>) {
             .iter()
             .filter(|p| p.relative().abs() > MODE_SHIFT_NOTED)
             .count();
-        let worst = m.worst.map_or("-".into(), |w| {
-            format!(
-                "{:+.2} % ({:.1} Hz for {:.1} Hz)",
-                100.0 * w.relative(),
-                w.other_hz,
-                w.reference_hz
-            )
-        });
+        let worst = m.worst.map_or("-".into(), |w| w.shift_text());
         let zones: Vec<String> = reduced_pairs(c)
             .filter(|z| z.model == s.model)
             .map(|z| format!("{} {:.2}", z.pair, z.ratios.total))

@@ -359,14 +359,7 @@ impl Report {
                             format!("{:.2}", c.friction),
                             format!("{} / {}", m.reference_modes, m.other_modes),
                             format!("{:.2} %", 100.0 * m.mean_relative),
-                            m.worst.map_or("-".into(), |w| {
-                                format!(
-                                    "{:+.2} % ({:.1} Hz for {:.1} Hz)",
-                                    100.0 * w.relative(),
-                                    w.other_hz,
-                                    w.reference_hz
-                                )
-                            }),
+                            m.worst.map_or("-".into(), |w| w.shift_text()),
                         ]
                     })
                     .collect();
