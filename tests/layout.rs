@@ -39,11 +39,37 @@ fn modules(root: &Path, dir: &Path, out: &mut BTreeMap<String, PathBuf>) {
     }
 }
 
+/// A file's text before its test module (`#[cfg(test)]`, then any attributes and comments,
+/// then `mod tests`): a test-only helper module declared higher up (`#[cfg(test)] mod
+/// test_support;`) does not end the code.
+fn before_tests(text: &str) -> &str {
+    let lines: Vec<(usize, &str)> = text
+        .split_inclusive('\n')
+        .scan(0, |at, l| {
+            let start = *at;
+            *at += l.len();
+            Some((start, l.trim_end()))
+        })
+        .collect();
+    for (k, &(start, line)) in lines.iter().enumerate() {
+        if line != "#[cfg(test)]" {
+            continue;
+        }
+        let next = lines[k + 1..]
+            .iter()
+            .map(|(_, l)| l.trim_start())
+            .find(|l| !(l.starts_with("//") || l.starts_with("#[")));
+        if next.is_some_and(|l| l.starts_with("mod tests")) {
+            return &text[..start];
+        }
+    }
+    text
+}
+
 /// A file's code: before its test module, without comments.
 fn code(path: &Path) -> String {
     let text = std::fs::read_to_string(path).unwrap();
-    let before_tests = text.split("#[cfg(test)]").next().unwrap_or("");
-    before_tests
+    before_tests(&text)
         .lines()
         .map(|l| l.split("//").next().unwrap_or(""))
         .collect::<Vec<_>>()
@@ -251,6 +277,11 @@ fn the_cycle_check_finds_a_cycle() {
         .join("\n");
     let seen: Vec<Vec<&str>> = paths_after(&stripped, "crate::").collect();
     assert_eq!(seen, [vec!["a", "b"]]);
+    let text = "#[cfg(test)]\nmod support;\nuse crate::x;\n#[cfg(test)]\nmod tests {}\n";
+    assert_eq!(
+        before_tests(text),
+        "#[cfg(test)]\nmod support;\nuse crate::x;\n"
+    );
 }
 
 #[test]
@@ -260,10 +291,7 @@ fn no_source_file_is_over_a_thousand_lines_before_its_tests() {
         .values()
         .map(|path| {
             let text = std::fs::read_to_string(path).unwrap();
-            let lines = text
-                .lines()
-                .take_while(|l| !l.starts_with("#[cfg(test)]"))
-                .count();
+            let lines = before_tests(&text).lines().count();
             (path.display().to_string(), lines)
         })
         .filter(|(_, n)| *n > MAX_LINES)

@@ -89,8 +89,9 @@ impl ZoneStiffness {
                 .map(|a| (0..3).map(|b| e[a] * m[a][b] * e[b]).sum::<f64>())
                 .sum::<f64>()
         };
-        // The in-plane axes, least resistance first; an axis whose moment is round-off of the
-        // largest (a zone on one line) has none to compare.
+        // The in-plane axes, least resistance first. A zone on one line has round-off about
+        // the other axis (1e-16 of the largest per term summed); a real zone of aspect ratio
+        // a:b has (b/a)^2 there, 1e-2 at 10:1: 1e-9 tells the two apart by far.
         let largest = along(&s_ref, order[0]);
         let rocking = [order[1], order[0]].map(|k| {
             let m = along(&s_ref, k);

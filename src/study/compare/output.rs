@@ -4,7 +4,7 @@
 use super::statics::read_contact;
 use super::{CompareError, Comparison, InstabilityComparison};
 use crate::study::report::{create_dir_all, write_atomically};
-use crate::study::results::DocumentError;
+use crate::study::results::{read_document, DocumentError};
 use std::path::{Path, PathBuf};
 
 /// The in-plane coordinates of points on a (flat) pad: the two axes along which they spread
@@ -252,15 +252,7 @@ impl Comparison {
 
     /// A comparison folder's compare.json, typed: what the study report reads.
     pub fn read(dir: &Path) -> Result<Comparison, DocumentError> {
-        let file = dir.join("compare.json");
-        let bytes = std::fs::read(&file).map_err(|source| DocumentError::Read {
-            file: file.clone(),
-            source,
-        })?;
-        serde_json::from_slice(&bytes).map_err(|e| DocumentError::Format {
-            file,
-            message: e.to_string(),
-        })
+        read_document(&dir.join("compare.json"))
     }
 
     /// compare.json and compare.md into `dir`, each whole or not at all.

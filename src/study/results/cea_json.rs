@@ -4,7 +4,7 @@
 //! ([`MatrixFiles`]). Written by [`crate::study::cea::write_report`], read back typed by
 //! [`CeaDocument::read`].
 
-use super::{DocumentError, PairReport};
+use super::{read_document, DocumentError, PairReport};
 use crate::analysis::cea::ComplexMode;
 use std::borrow::Cow;
 use std::path::Path;
@@ -51,15 +51,7 @@ impl<M: Clone + serde::de::DeserializeOwned> CeaDocument<'static, M> {
     /// Reads `dir`/cea.json; lambda, which is not written, is put back from the frequency
     /// and the real part.
     pub fn read(dir: &Path) -> Result<Self, DocumentError> {
-        let file = dir.join(Self::FILE);
-        let bytes = std::fs::read(&file).map_err(|source| DocumentError::Read {
-            file: file.clone(),
-            source,
-        })?;
-        let mut doc: Self = serde_json::from_slice(&bytes).map_err(|e| DocumentError::Format {
-            file: file.clone(),
-            message: e.to_string(),
-        })?;
+        let mut doc: Self = read_document(&dir.join(Self::FILE))?;
         for mode in doc.eigenvalues.to_mut() {
             mode.lambda = num_complex::Complex64::new(
                 mode.real_part,

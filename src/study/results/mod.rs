@@ -52,6 +52,18 @@ pub enum DocumentError {
     Format { file: PathBuf, message: String },
 }
 
+/// A result file's JSON as `T`: the file named in either error.
+pub fn read_document<T: serde::de::DeserializeOwned>(file: &Path) -> Result<T, DocumentError> {
+    let bytes = std::fs::read(file).map_err(|source| DocumentError::Read {
+        file: file.to_path_buf(),
+        source,
+    })?;
+    serde_json::from_slice(&bytes).map_err(|e| DocumentError::Format {
+        file: file.to_path_buf(),
+        message: e.to_string(),
+    })
+}
+
 impl SweepDocument {
     /// The file's name in a sweep folder.
     pub const FILE: &'static str = "sweep.json";
@@ -60,16 +72,11 @@ impl SweepDocument {
     /// doc), and refuses what no sweep squeal wrote holds ([`SweepDocument::check`]).
     pub fn read(dir: &Path) -> Result<SweepDocument, DocumentError> {
         let file = dir.join(Self::FILE);
-        let bytes = std::fs::read(&file).map_err(|source| DocumentError::Read {
-            file: file.clone(),
-            source,
-        })?;
         let format = |message: String| DocumentError::Format {
             file: file.clone(),
             message,
         };
-        let mut value: serde_json::Value =
-            serde_json::from_slice(&bytes).map_err(|e| format(e.to_string()))?;
+        let mut value: serde_json::Value = read_document(&file)?;
         migrate(&mut value);
         let mut doc: SweepDocument =
             serde_json::from_value(value).map_err(|e| format(e.to_string()))?;
