@@ -333,6 +333,10 @@ struct InterfaceFlags {
     /// Radius of influence: grid-optimal, paper, or a length in mesh units.
     #[arg(long, default_value = "grid-optimal")]
     radius: String,
+    /// How each reduced contact node is tied to the pad face (study key
+    /// reduction.pad_coupling; default distributing).
+    #[arg(long, value_enum)]
+    pad_coupling: Option<squeal::reduce::PadCoupling>,
     /// How each disc node of the reduced interface is tied to the disc face (study key
     /// reduction.disc_coupling; default shape-functions).
     #[arg(long, value_enum)]
@@ -360,15 +364,18 @@ fn reduction_flags(
         spacing,
         weighting,
         radius,
+        pad_coupling,
         disc_coupling,
         area_weighting,
         tilt,
     } = flags.clone();
     use squeal::reduce::RadiusChoice;
     if count.is_none() && spacing.is_none() {
-        if disc_coupling.is_some() || area_weighting || tilt.is_some() {
+        if pad_coupling.is_some() || disc_coupling.is_some() || area_weighting || tilt.is_some() {
             return Err(study::StudyError::BadFlag {
-                flag: if disc_coupling.is_some() {
+                flag: if pad_coupling.is_some() {
+                    "--pad-coupling"
+                } else if disc_coupling.is_some() {
                     "--disc-coupling"
                 } else if area_weighting {
                     "--area-weighting"
@@ -376,8 +383,8 @@ fn reduction_flags(
                     "--tilt"
                 },
                 why: "sets up a reduced interface: give --contact-nodes-per-pad or --spacing \
-                      too (or reduction.disc_coupling and reduction.area_weighting in the \
-                      study file)"
+                      too (or reduction.pad_coupling, reduction.disc_coupling and \
+                      reduction.area_weighting in the study file)"
                     .into(),
             }
             .collective()
@@ -401,6 +408,7 @@ fn reduction_flags(
     spec.spacing = spacing;
     spec.radius = radius;
     spec.weighting = weighting;
+    spec.pad_coupling = pad_coupling.unwrap_or_default();
     spec.disc_coupling = disc_coupling.unwrap_or_default();
     spec.area_weighting = area_weighting;
     if let Some(tilt) = tilt {

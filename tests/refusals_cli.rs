@@ -415,6 +415,10 @@ fn flags_every_rank_refuses_are_said_once() {
             &["--disc-coupling", "--contact-nodes-per-pad"][..],
         ),
         (
+            &["sweep", "--preset", "tiny", "--pad-coupling", "share"][..],
+            &["--pad-coupling", "reduction.pad_coupling"][..],
+        ),
+        (
             &[
                 "sweep",
                 "--preset",

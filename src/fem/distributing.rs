@@ -164,7 +164,7 @@ const COLLINEAR_AREA: f64 = 1e-10;
 
 /// True when all the nodes lie on one line: from the node farthest from the first, the
 /// largest triangle any third node spans with those two is negligible.
-fn on_one_line(nodes: &[CloudNode], radius: f64) -> bool {
+pub(crate) fn on_one_line(nodes: &[CloudNode], radius: f64) -> bool {
     let a = nodes[0].position;
     let b = nodes
         .iter()

@@ -147,6 +147,90 @@ pub fn couple_points(
         .collect()
 }
 
+/// The share couplings of a grid: each node of `surface` goes to the reduced contact node
+/// whose share of the surface it lies in (the nearest grid point in the mean plane, the rule
+/// that splits the surface's area among the nodes, [`super::grid`]), weighted by its
+/// tributary area, the area the full pair's penalty gives it.
+///
+/// Why. The paper's couplings reach a radius of influence around each node with weights
+/// that fall off with distance, so neighbouring couplings overlap and a share's force lands
+/// on the pad as a bump centred on the node. Share couplings partition the surface: node k's
+/// force lands on its own share as the uniform pressure the full model's springs would
+/// carry there, and a patch law's slope is read over the nodes its share integrates. On
+/// small-caliper (52 nodes per pad, no friction) the pad-rocking mode's error went from
+/// -1.93 % to -0.48 % with them (issue 29).
+///
+/// In Abaqus's terms each is a distributing coupling with uniform weights and mesh-size
+/// weighting, over the share's nodes instead of a radius. Errors (naming the node) when a
+/// share holds fewer than 3 nodes not on one line: the grid is then finer than the mesh.
+pub fn couple_shares(
+    mesh: &Mesh,
+    surface: &Surface,
+    grid: &ContactGrid,
+) -> Result<Vec<DistributingCoupling>, ReduceError> {
+    use crate::fem::distributing::{normalise, on_one_line};
+    // Checked as `couple_points` checks them, before any node is looked up.
+    surface_points(mesh, surface)?;
+    let mut couplings: Vec<DistributingCoupling> = grid
+        .nodes
+        .iter()
+        .enumerate()
+        .map(|(k, node)| DistributingCoupling {
+            reduced_node: k,
+            reference: node.position,
+            radius: 0.0,
+            weighting: Weighting::Uniform,
+            nodes: Vec::new(),
+        })
+        .collect();
+    if couplings.is_empty() {
+        return Ok(couplings);
+    }
+    for (node, area) in crate::contact::tributary_areas(mesh, surface) {
+        let x = mesh.nodes[node];
+        let p = grid.plane.to_plane(x);
+        let squared = |k: usize| {
+            let q = grid.nodes[k].plane;
+            (q[0] - p[0]).powi(2) + (q[1] - p[1]).powi(2)
+        };
+        // The first of equally near nodes: a node on the border of two shares goes to one.
+        let k = (1..grid.nodes.len()).fold(
+            0,
+            |best, k| {
+                if squared(k) < squared(best) {
+                    k
+                } else {
+                    best
+                }
+            },
+        );
+        let c = &mut couplings[k];
+        c.nodes.push(CouplingNode {
+            node,
+            position: x,
+            distance: crate::vector3::norm(sub(x, c.reference)),
+            weight: area,
+        });
+    }
+    for c in &mut couplings {
+        // The share's reach stands for a radius: the coupling's extent in messages and the
+        // scale of the collinearity test.
+        c.radius = c.nodes.iter().map(|n| n.distance).fold(0.0, f64::max);
+        let collinear = c.nodes.len() >= 3 && on_one_line(&c.nodes, c.radius);
+        if c.nodes.len() < 3 || collinear {
+            return Err(ReduceError::ShareTooSmall {
+                surface: surface.name.clone(),
+                reduced_node: c.reduced_node,
+                position: c.reference,
+                found: c.nodes.len(),
+                collinear,
+            });
+        }
+        normalise(&mut c.nodes);
+    }
+    Ok(couplings)
+}
+
 fn surface_points(mesh: &Mesh, surface: &Surface) -> Result<Vec<(usize, [f64; 3])>, ReduceError> {
     let nodes = mesh.surface_nodes(surface);
     if let Some(&bad) = nodes.iter().find(|&&n| n >= mesh.nodes.len()) {
@@ -343,6 +427,58 @@ mod tests {
                 }
             ),
             "{err}"
+        );
+    }
+
+    /// Share couplings partition the surface: every node in exactly one, in the share of
+    /// the grid point nearest to it in the plane, weighted by its tributary area; so a
+    /// pressure carried by the reduced nodes (p times the nodes' area in each share) reaches
+    /// every surface node as the full pair's p a_i, and the weights add up to 1.
+    #[test]
+    fn share_couplings_partition_the_surface_and_carry_a_uniform_pressure_node_by_node() {
+        use crate::reduce::grid::{isometric_grid, GridSize};
+        let mesh = plate();
+        let surface = &mesh.surfaces["z1"];
+        let grid = isometric_grid(&mesh, surface, GridSize::Count(22)).unwrap();
+        let couplings = couple_shares(&mesh, surface, &grid).unwrap();
+        assert_eq!(couplings.len(), grid.count());
+        let areas: std::collections::BTreeMap<usize, f64> =
+            crate::contact::tributary_areas(&mesh, surface)
+                .into_iter()
+                .collect();
+        let mut seen = std::collections::BTreeMap::new();
+        let p = -2.5e5;
+        for (k, c) in couplings.iter().enumerate() {
+            assert_eq!(c.reference, grid.nodes[k].position);
+            let sum: f64 = c.nodes.iter().map(|n| n.weight).sum();
+            assert!((sum - 1.0).abs() < 1e-14, "{sum}");
+            let share: f64 = c.nodes.iter().map(|n| areas[&n.node]).sum();
+            for (node, f) in c.distribute([0.0, 0.0, p * share]) {
+                let expect = p * areas[&node];
+                assert!(
+                    (f[2] - expect).abs() < 1e-12 * expect.abs(),
+                    "{f:?} {expect}"
+                );
+                assert!(seen.insert(node, k).is_none(), "node {node} in two shares");
+            }
+            let q = grid.plane.to_plane(mesh.nodes[c.nodes[0].node]);
+            let d = |j: usize| {
+                let g = grid.nodes[j].plane;
+                (g[0] - q[0]).powi(2) + (g[1] - q[1]).powi(2)
+            };
+            assert!((0..grid.count()).all(|j| d(k) <= d(j)));
+        }
+        assert_eq!(seen.len(), areas.len());
+        let total: f64 = areas.values().sum();
+        assert!((total - grid.surface_area).abs() < 1e-12 * total);
+        // A grid finer than the mesh leaves a share with too few nodes, named.
+        let fine = isometric_grid(&mesh, surface, GridSize::Spacing(0.06)).unwrap();
+        let err = couple_shares(&mesh, surface, &fine).unwrap_err();
+        assert!(matches!(err, ReduceError::ShareTooSmall { .. }), "{err}");
+        let text = err.to_string();
+        assert!(
+            text.contains("'z1'") && text.contains("fewer reduced contact nodes"),
+            "{text}"
         );
     }
 

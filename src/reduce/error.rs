@@ -60,6 +60,23 @@ pub enum ReduceError {
         found: usize,
         collinear: bool,
     },
+    /// A share coupling ([`super::coupling::couple_shares`]) that would not hold its
+    /// reference point: the grid is finer than the mesh.
+    #[error(
+        "surface '{surface}': the share of reduced contact node {reduced_node} at ({:.6e}, \
+         {:.6e}, {:.6e}) holds {found} surface node(s){}; a share coupling needs at least 3 \
+         not on one line: ask for fewer reduced contact nodes, or pad_coupling = \
+         \"distributing\"",
+        position[0], position[1], position[2],
+        if *collinear { ", all on one line" } else { "" }
+    )]
+    ShareTooSmall {
+        surface: String,
+        reduced_node: usize,
+        position: [f64; 3],
+        found: usize,
+        collinear: bool,
+    },
     /// A radius of influence that is not finite and positive.
     #[error("reduced contact node {reduced_node}: radius of influence R = {radius} must be finite and > 0")]
     InvalidRadius { reduced_node: usize, radius: f64 },

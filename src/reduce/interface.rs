@@ -27,7 +27,7 @@
 //! [`DEFAULT_SPRING_FACTOR`] k_n A_k; its effect on the eigenvalues is measured by
 //! multiplying it by 10 and 100 (`tests/reduced_interface.rs`).
 
-use super::coupling::{couple_grid, couple_points, DistributingCoupling, Weighting};
+use super::coupling::{couple_grid, couple_points, couple_shares, DistributingCoupling, Weighting};
 use super::grid::{isometric_grid, ContactGrid, GridSize};
 use super::radius::{grid_optimal, paper_radius};
 use super::tilt;
@@ -90,6 +90,30 @@ pub enum DiscCoupling {
     Share,
 }
 
+/// How a reduced contact node c_k is tied to the pad face.
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    Default,
+    PartialEq,
+    Eq,
+    serde::Serialize,
+    serde::Deserialize,
+    clap::ValueEnum,
+)]
+#[serde(rename_all = "kebab-case")]
+pub enum PadCoupling {
+    /// To the pad face's nodes within the radius of influence, by the weighting's profile
+    /// (the paper's distributing coupling; neighbouring couplings overlap).
+    #[default]
+    Distributing,
+    /// To the pad face's nodes of its own share, each by its tributary area (the share's
+    /// uniform pressure; the couplings partition the face,
+    /// [`super::coupling::couple_shares`]).
+    Share,
+}
+
 /// How to reduce the interface.
 #[derive(Clone, Debug, PartialEq)]
 pub struct InterfaceSettings {
@@ -101,10 +125,13 @@ pub struct InterfaceSettings {
     pub spring_stiffness: Option<f64>,
     /// The default k_s multiplied by this (1 normally; 10 and 100 to measure its effect).
     pub spring_factor: f64,
+    /// How each reduced contact node is tied to the pad face.
+    pub pad_coupling: PadCoupling,
     /// How each disc node is tied to the disc face.
     pub disc_coupling: DiscCoupling,
     /// Distributing couplings weigh each node by its tributary area too
-    /// ([`DistributingCoupling::area_weighted`]); false: the paper's weights alone.
+    /// ([`DistributingCoupling::area_weighted`]); false: the paper's weights alone. Share
+    /// couplings weigh by area either way.
     pub area_weighting: bool,
     /// Each reduced contact carries its patch law ([`super::tilt`]); false:
     /// the paper's point contacts alone.
@@ -119,6 +146,7 @@ impl Default for InterfaceSettings {
             radius: RadiusChoice::GridOptimal,
             spring_stiffness: None,
             spring_factor: 1.0,
+            pad_coupling: PadCoupling::Distributing,
             disc_coupling: DiscCoupling::ShapeFunctions,
             area_weighting: false,
             tilt: DEFAULT_TILT,
@@ -132,8 +160,10 @@ pub struct ReducedPad {
     /// The pair it replaces.
     pub pair: String,
     pub grid: ContactGrid,
-    /// Radius of influence used (mesh units).
+    /// Radius of influence used (mesh units): the couplings' with distributing ones, the
+    /// disc-side patches' either way.
     pub radius: f64,
+    pub pad_coupling: PadCoupling,
     pub couplings: Vec<DistributingCoupling>,
     /// Model node index of each reduced contact node's pad contact node c_k and disc node
     /// d_k (extra nodes), in the grid's order.
@@ -168,8 +198,12 @@ impl ReducedInterface {
                 } else {
                     "; patch laws (two tilt nodes per reduced contact node)"
                 };
+                let shares = match p.pad_coupling {
+                    PadCoupling::Distributing => "",
+                    PadCoupling::Share => "; pad couplings over the shares",
+                };
                 format!(
-                    "{}: {}; radius of influence {:.4e} ({:.3} h), tie springs up to {:.3e} N/m{patch}",
+                    "{}: {}; radius of influence {:.4e} ({:.3} h), tie springs up to {:.3e} N/m{shares}{patch}",
                     p.pair,
                     p.grid.summary(),
                     p.radius,
@@ -378,8 +412,13 @@ pub fn reduce_interface(
         let (slave, master) = (surface(slave_name)?, surface(master_name)?);
         let grid = isometric_grid(mesh, slave, settings.size)?;
         let radius = radius_for(settings.radius, settings.weighting, grid.spacing)?;
-        let mut couplings = couple_grid(mesh, slave, &grid, radius, settings.weighting)?;
-        if settings.area_weighting {
+        let mut couplings = match settings.pad_coupling {
+            PadCoupling::Distributing => {
+                couple_grid(mesh, slave, &grid, radius, settings.weighting)?
+            }
+            PadCoupling::Share => couple_shares(mesh, slave, &grid)?,
+        };
+        if settings.area_weighting && settings.pad_coupling == PadCoupling::Distributing {
             let areas = contact::tributary_areas(mesh, slave).into_iter().collect();
             couplings = couplings
                 .into_iter()
@@ -402,6 +441,7 @@ pub fn reduce_interface(
             pair: name.clone(),
             grid: grid.clone(),
             radius,
+            pad_coupling: settings.pad_coupling,
             couplings: couplings.clone(),
             contact_nodes: Vec::new(),
             disc_nodes: Vec::new(),

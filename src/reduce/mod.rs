@@ -47,7 +47,8 @@ pub use craig_bampton::{
 pub use error::ReduceError;
 pub use grid::{isometric_grid, ContactGrid, GridSize, MeanPlane, ReducedNode};
 pub use interface::{
-    reduce_interface, DiscCoupling, InterfaceSettings, RadiusChoice, ReducedInterface, ReducedPad,
+    reduce_interface, DiscCoupling, InterfaceSettings, PadCoupling, RadiusChoice, ReducedInterface,
+    ReducedPad,
 };
 pub use radius::{radius_table, table_text, DegreeRadius, RadiusTable};
 pub use strategy::{decide, Decision, Strategy};

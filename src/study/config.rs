@@ -10,7 +10,9 @@ pub use crate::model::spec::{
     ContactSpec, FrictionLawName, LinkSpec, MaterialSpec, MeshSpec, PressureSpec, SpringDirection,
     SpringSpec, SupportSpec,
 };
-use crate::reduce::{DiscCoupling, GridSize, InterfaceSettings, RadiusChoice, Strategy, Weighting};
+use crate::reduce::{
+    DiscCoupling, GridSize, InterfaceSettings, PadCoupling, RadiusChoice, Strategy, Weighting,
+};
 use std::path::{Path, PathBuf};
 
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -125,8 +127,13 @@ pub struct ReductionSpec {
     /// Stiffness of each tie spring (N/m); default 1000 times the node's contact stiffness.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub spring_stiffness: Option<f64>,
-    /// How each disc node is tied to the disc face: "shape-functions" (default) or
-    /// "distributing" (the pad side's weighting and radius).
+    /// How each reduced contact node is tied to the pad face: "distributing" (default, the
+    /// paper's radius of influence) or "share" (its share's nodes by tributary area).
+    #[serde(default, skip_serializing_if = "is_default")]
+    pub pad_coupling: PadCoupling,
+    /// How each disc node is tied to the disc face: "shape-functions" (default),
+    /// "distributing" (the pad side's weighting and radius) or "share" (the disc surface
+    /// under the node's share).
     #[serde(default)]
     pub disc_coupling: DiscCoupling,
     /// Weigh each coupled node by its tributary area too (Abaqus 6.10's mesh-size weighting).
@@ -256,6 +263,12 @@ impl ComparisonSpec {
 fn cubic() -> Weighting {
     Weighting::Cubic
 }
+/// Keys left at their default are not written, so that a study written before they existed
+/// keeps its stage keys.
+fn is_default<T: Default + PartialEq>(value: &T) -> bool {
+    *value == T::default()
+}
+
 fn default_tilt() -> bool {
     crate::reduce::interface::DEFAULT_TILT
 }
@@ -272,6 +285,7 @@ impl ReductionSpec {
             weighting: cubic(),
             radius: grid_optimal(),
             spring_stiffness: None,
+            pad_coupling: PadCoupling::default(),
             disc_coupling: DiscCoupling::default(),
             area_weighting: false,
             tilt: default_tilt(),
@@ -295,6 +309,7 @@ impl ReductionSpec {
             radius: self.radius,
             spring_stiffness: self.spring_stiffness,
             spring_factor: 1.0,
+            pad_coupling: self.pad_coupling,
             disc_coupling: self.disc_coupling,
             area_weighting: self.area_weighting,
             tilt: self.tilt,
@@ -1313,6 +1328,34 @@ mod tests {
         let e = Study::read(&p).unwrap_err().to_string();
         assert!(
             e.contains("disc.toml") && e.contains("disc_coupling") && e.contains("distributing"),
+            "{e}"
+        );
+    }
+
+    /// `pad_coupling` reads, names itself when wrong, and is not written at its default (a
+    /// study written before the key existed keeps its stage keys).
+    #[test]
+    fn the_pad_coupling_key_reads_and_is_written_only_when_set() {
+        let r: ReductionSpec = toml::from_str(
+            "contact_nodes_per_pad = 6
+",
+        )
+        .unwrap();
+        assert_eq!(r.settings().pad_coupling, PadCoupling::Distributing);
+        assert!(!toml::to_string(&r).unwrap().contains("pad_coupling"));
+        let r: ReductionSpec =
+            toml::from_str("contact_nodes_per_pad = 6\npad_coupling = \"share\"\n").unwrap();
+        assert_eq!(r.settings().pad_coupling, PadCoupling::Share);
+        assert!(toml::to_string(&r)
+            .unwrap()
+            .contains("pad_coupling = \"share\""));
+        let p = write(
+            "pad.toml",
+            "[reduction]\ncontact_nodes_per_pad = 6\npad_coupling = \"glued\"\n",
+        );
+        let e = Study::read(&p).unwrap_err().to_string();
+        assert!(
+            e.contains("pad.toml") && e.contains("pad_coupling") && e.contains("share"),
             "{e}"
         );
     }

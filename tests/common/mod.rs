@@ -10,6 +10,17 @@ use std::process::{Command, Output};
 /// Seconds after which a job counts as hung (a rank waiting forever on another).
 pub const HANG_LIMIT_SECONDS: u32 = 600;
 
+/// The point-to-point layer the jobs use unless the environment names one: ob1 (shared
+/// memory between the ranks of one machine, what the tests are). Left to choose, OpenMPI
+/// 4.1 first tries the cm layer's network libraries (libfabric, PSM), which costs each
+/// rank about 0.2 s at start-up: `mpirun -n 2 squeal info` took 0.38 s, 0.18 s with ob1.
+fn point_to_point(command: &mut Command) -> &mut Command {
+    if std::env::var_os("OMPI_MCA_pml").is_none() {
+        command.env("OMPI_MCA_pml", "ob1");
+    }
+    command
+}
+
 /// `mpirun -n ranks program args...` with the settings this machine needs (root, 2 cores),
 /// killed after [`HANG_LIMIT_SECONDS`] so a hang fails the test instead of the CI run.
 pub fn mpirun(ranks: usize, program: &Path, args: &[&str]) -> Output {
@@ -20,7 +31,7 @@ pub fn mpirun(ranks: usize, program: &Path, args: &[&str]) -> Output {
         .prefix("squeal-ompi-")
         .tempdir()
         .expect("a temporary folder for the MPI session");
-    Command::new("timeout")
+    point_to_point(&mut Command::new("timeout"))
         .arg(HANG_LIMIT_SECONDS.to_string())
         .args(["mpirun", "-n", &ranks.to_string(), "--oversubscribe"])
         .arg(program)
@@ -43,7 +54,7 @@ pub fn mpirun_spawn(
         .prefix("squeal-ompi-")
         .tempdir()
         .expect("a temporary folder for the MPI session");
-    let child = Command::new("mpirun")
+    let child = point_to_point(&mut Command::new("mpirun"))
         .args(["-n", &ranks.to_string(), "--oversubscribe"])
         .arg(program)
         .args(args)
