@@ -4,6 +4,7 @@
 pub mod cea;
 pub mod modes;
 pub mod operators;
+pub mod pencil;
 pub mod restraint;
 pub mod rigid;
 pub mod spectrum_match;

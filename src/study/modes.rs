@@ -6,6 +6,7 @@ use super::report::{collective, create_dir, json_for, write_file};
 use super::staging::{staged, Claim};
 use super::StudyError;
 use crate::analysis::modes::{real_modes, ModeBand, ModesOptions, RealMode};
+use crate::analysis::pencil::{self, Pencil};
 use crate::analysis::restraint;
 use crate::fem::{element::MassRule, DofMap};
 use crate::io::vtu::{Field, VtuWriter};
@@ -192,18 +193,12 @@ fn solve_and_write(
     let t = Instant::now();
     // The model's own operators: its springs, links and point masses (a deck's SPRING and
     // MASS elements) are in K and M, as in the sweep.
-    let crate::model::Operators {
-        stiffness: k,
-        mass: m,
-        constraints,
-        ..
-    } = crate::model::assemble(comm, &model, args.mass_rule)?;
+    let ops = crate::model::assemble(comm, &model, args.mass_rule)?;
     // With constraints: the modes of C^T K C and C^T M C, shapes back through u = C x.
-    let (k, m) = match &constraints {
-        None => (k, m),
-        Some(t) => (t.project(&k)?, t.project(&m)?),
-    };
-    let unknowns = constraints.as_ref().map_or(&dofs, |t| &t.free);
+    let pencil = Pencil::of(&ops)?;
+    let (k, m) = (pencil.stiffness(), pencil.mass());
+    let constraints = &ops.constraints;
+    let unknowns = ops.solver_dofs();
     if root {
         tracing::info!("assembled K and M in {:.2} s", t.elapsed().as_secs_f64());
         if let Some(t) = &constraints {
@@ -219,14 +214,14 @@ fn solve_and_write(
     // many rigid-body modes to expect; the eigenvalues' own gap confirms it.
     let free = collective(
         comm,
-        restraint::free_bodies(comm, &k, unknowns, &restraint::bodies(mesh)),
+        restraint::free_bodies(comm, k, unknowns, &restraint::bodies(mesh)),
     )?;
     let expected_rigid_modes = free.iter().map(|b| b.motions.len()).sum();
     let t = Instant::now();
     let solution = real_modes(
         comm,
-        &k,
-        &m,
+        k,
+        m,
         &ModesOptions {
             band: band.clone(),
             tolerance: args.tolerance,
@@ -245,10 +240,7 @@ fn solve_and_write(
     // Shapes to rank 0 (collective), then rank 0 writes everything.
     let mut shapes = Vec::with_capacity(solution.shapes.len());
     for s in &solution.shapes {
-        match &constraints {
-            None => shapes.push(s.gather_to_zero()?),
-            Some(t) => shapes.push(t.expand(s, 0.0)?.gather_to_zero()?),
-        }
+        shapes.push(pencil::gather_full_shape(&ops, s)?);
     }
     if !root {
         return Ok(None);

@@ -5,13 +5,14 @@
 use super::BaseState;
 use crate::analysis::cea::{self, CeaOptions, ComplexMode};
 use crate::analysis::modes::{real_modes, ModeBand, ModesOptions, RealMode};
+use crate::analysis::pencil::{self, Pencil};
 use crate::analysis::restraint;
 use crate::analysis::statics;
 use crate::contact::{self, FrictionLaw, PointState, SlipHistory, Status};
 use crate::fem::element::MassRule;
 use crate::io::abaqus::{ComplexFrequencyRequest, FrequencyRequest};
 use crate::model::{self, Model, Operators};
-use crate::petsc::{Comm, Matrix, Vector};
+use crate::petsc::Comm;
 use crate::study::modes::ModelSummary;
 use crate::study::report::collective;
 use crate::study::results::{DeckStep, PairReport};
@@ -100,27 +101,6 @@ fn add_base_tangent<'rt>(
     .map_err(|source| StudyError::DeckStatic { source })
 }
 
-/// The pencil the eigensolvers see: the operators' stiffness and mass, or C^T K C and
-/// C^T M C when constraints eliminate DOFs (collective). The shapes come back through
-/// [`full_shape`].
-fn solver_pencil<'rt>(
-    ops: &Operators<'rt>,
-) -> Result<Option<(Matrix<'rt>, Matrix<'rt>)>, StudyError> {
-    match &ops.constraints {
-        None => Ok(None),
-        Some(t) => Ok(Some((t.project(&ops.stiffness)?, t.project(&ops.mass)?))),
-    }
-}
-
-/// A shape of the solver's unknowns in the full numbering, gathered on rank 0: u = C x
-/// with constraints (no offset: a mode holds the prescribed DOFs). Collective.
-fn full_shape(ops: &Operators<'_>, x: &Vector<'_>) -> Result<Vec<f64>, StudyError> {
-    Ok(match &ops.constraints {
-        None => x.gather_to_zero()?,
-        Some(t) => t.expand(x, 0.0)?.gather_to_zero()?,
-    })
-}
-
 /// A `*FREQUENCY` step. Returns the band it computed and the summary line. Collective.
 pub(super) fn frequency(
     comm: Comm<'_>,
@@ -154,10 +134,11 @@ pub(super) fn frequency(
     let states = statics::contact_states(&model.pairs, &slip, u)
         .map_err(|e| StudyError::DeckStatic { source: e.into() })?;
     if !friction_coupled(model, &states) {
-        add_base_tangent(comm, &mut ops, &model.pairs, base, 1.0)?;
-        let result = real(comm, model, &ops, mass_rule, &asked, Some(base), out);
-        add_base_tangent(comm, &mut ops, &model.pairs, base, -1.0)?;
-        return result;
+        return pencil::with_tangent(
+            &mut ops,
+            |ops, scale| add_base_tangent(comm, ops, &model.pairs, base, scale),
+            |ops| real(comm, model, ops, mass_rule, &asked, Some(base), out),
+        );
     }
     let band = match request.upper_frequency {
         Some(f) => Band { upper: f, ..asked },
@@ -166,10 +147,12 @@ pub(super) fn frequency(
             ..asked
         },
     };
-    add_base_tangent(comm, &mut ops, &model.pairs, base, 1.0)?;
-    let result = complex(comm, model, &ops, base, &states, &band, out);
-    add_base_tangent(comm, &mut ops, &model.pairs, base, -1.0)?;
-    Ok((band, result?))
+    let line = pencil::with_tangent(
+        &mut ops,
+        |ops, scale| add_base_tangent(comm, ops, &model.pairs, base, scale),
+        |ops| complex(comm, model, ops, base, &states, &band, out),
+    )?;
+    Ok((band, line))
 }
 
 /// A `*COMPLEX FREQUENCY` step: the CEA about the base state (the undeformed state, said in a
@@ -225,10 +208,11 @@ pub(super) fn complex_frequency(
     let u = &base.displacement;
     let states = statics::contact_states(&model.pairs, &slip, u)
         .map_err(|e| StudyError::DeckStatic { source: e.into() })?;
-    add_base_tangent(comm, &mut ops, &model.pairs, base, 1.0)?;
-    let result = complex(comm, model, &ops, base, &states, &band, out);
-    add_base_tangent(comm, &mut ops, &model.pairs, base, -1.0)?;
-    result
+    pencil::with_tangent(
+        &mut ops,
+        |ops, scale| add_base_tangent(comm, ops, &model.pairs, base, scale),
+        |ops| complex(comm, model, ops, base, &states, &band, out),
+    )
 }
 
 /// A number of modes the model can have: at most its unknowns (the equations less those the
@@ -268,24 +252,24 @@ fn upper_from_count<'rt>(
         model.pairs.iter().map(|p| p.frictionless()).collect();
     let none = SlipHistory::default();
     let u = &base.displacement;
-    add_tangent(comm, ops, &frictionless, &none, u, 1.0)?;
-    let modes = solver_pencil(ops).and_then(|pencil| {
-        let (k, m) = pencil
-            .as_ref()
-            .map_or((&ops.stiffness, &ops.mass), |(k, m)| (k, m));
-        real_modes(
-            comm,
-            k,
-            m,
-            &ModesOptions {
-                band: ModeBand::Lowest { count },
-                ..Default::default()
-            },
-        )
-        .map_err(|source| StudyError::Modes { source })
-    });
-    add_tangent(comm, ops, &frictionless, &none, u, -1.0)?;
-    let top = modes?.modes.last().map_or(0.0, |m| m.frequency_hz);
+    let modes = pencil::with_tangent(
+        ops,
+        |ops, scale| add_tangent(comm, ops, &frictionless, &none, u, scale),
+        |ops| {
+            let pencil = Pencil::of(ops)?;
+            real_modes(
+                comm,
+                pencil.stiffness(),
+                pencil.mass(),
+                &ModesOptions {
+                    band: ModeBand::Lowest { count },
+                    ..Default::default()
+                },
+            )
+            .map_err(|source| StudyError::Modes { source })
+        },
+    )?;
+    let top = modes.modes.last().map_or(0.0, |m| m.frequency_hz);
     Ok(COUNT_BAND_MARGIN * top)
 }
 
@@ -313,10 +297,8 @@ fn real(
             })
         }
     };
-    let pencil = solver_pencil(ops)?;
-    let (k, m) = pencil
-        .as_ref()
-        .map_or((&ops.stiffness, &ops.mass), |(k, m)| (k, m));
+    let pencil = Pencil::of(ops)?;
+    let (k, m) = (pencil.stiffness(), pencil.mass());
     let unknowns = ops.solver_dofs();
     let free = collective(
         comm,
@@ -346,7 +328,7 @@ fn real(
     }
     let mut shapes = Vec::with_capacity(kept.len());
     for &i in &kept {
-        shapes.push(full_shape(ops, &solution.shapes[i])?);
+        shapes.push(pencil::gather_full_shape(ops, &solution.shapes[i])?);
     }
     let modes: Vec<RealMode> = kept
         .iter()
@@ -404,10 +386,8 @@ fn complex(
     band: &Band,
     out: &Path,
 ) -> Result<String, StudyError> {
-    let pencil = solver_pencil(ops)?;
-    let (k, m) = pencil
-        .as_ref()
-        .map_or((&ops.stiffness, &ops.mass), |(k, m)| (k, m));
+    let pencil = Pencil::of(ops)?;
+    let (k, m) = (pencil.stiffness(), pencil.mass());
     // As the real-mode step: the restraint check counts the rigid motions, so penalty or tie
     // stiffness that lifts the round-off level cannot call a held body's modes rigid.
     let free = collective(
@@ -444,7 +424,10 @@ fn complex(
             continue;
         }
         let (re, im) = &result.shapes[i];
-        let (re, im) = (full_shape(ops, re)?, full_shape(ops, im)?);
+        let (re, im) = (
+            pencil::gather_full_shape(ops, re)?,
+            pencil::gather_full_shape(ops, im)?,
+        );
         if comm.rank() == 0 {
             let nodes = model.mesh.nodes.len();
             let mut re = ops.dofs.displacements(&re);

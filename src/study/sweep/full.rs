@@ -7,6 +7,7 @@ use super::{
     UnstableShape,
 };
 use crate::analysis::cea::{self, CeaOptions, RayleighDamping};
+use crate::analysis::pencil::{self, Pencil};
 use crate::analysis::restraint::{self, Body};
 use crate::analysis::statics::{self, StaticOptions, StaticProblem};
 use crate::contact::{self, SlipHistory};
@@ -533,20 +534,20 @@ impl<'rt> FullModel<'rt> {
         slip: &SlipHistory,
         f: impl FnOnce(&Operators<'rt>) -> Result<T, StudyError>,
     ) -> Result<T, StudyError> {
-        let tangent = |source| StudyError::Tangent { mu, source };
         self.model.set_swept_friction(mu);
-        let Operators {
-            dofs, stiffness, ..
-        } = &mut self.operators;
-        statics::add_contact_tangent(comm, stiffness, dofs, &self.model.pairs, slip, u, 1.0)
-            .map_err(tangent)?;
-        let result = f(&self.operators);
-        let Operators {
-            dofs, stiffness, ..
-        } = &mut self.operators;
-        statics::add_contact_tangent(comm, stiffness, dofs, &self.model.pairs, slip, u, -1.0)
-            .map_err(tangent)?;
-        result
+        let pairs = &self.model.pairs;
+        pencil::with_tangent(
+            &mut self.operators,
+            |ops, scale| {
+                let Operators {
+                    dofs, stiffness, ..
+                } = ops;
+                statics::add_contact_tangent(comm, stiffness, dofs, pairs, slip, u, scale)
+                    .map(drop)
+                    .map_err(|source| StudyError::Tangent { mu, source })
+            },
+            f,
+        )
     }
 }
 
@@ -622,59 +623,48 @@ impl<'rt> FrictionModel<'rt> for FullModel<'rt> {
             contact_reports.push(PairReport::new(&pair.settings.name, &s));
         }
         let static_seconds = t_static.elapsed().as_secs_f64();
-        let Operators {
-            dofs,
-            stiffness: k,
-            mass: m,
-            constraints,
-            ..
-        } = &mut self.operators;
         tracing::debug!(
             "after the static solve: peak memory {:.0} MiB on this rank",
             peak_rss_mib()
         );
         let t_cea = Instant::now();
-        // K_t = K + dF_c/dU is formed in K itself and taken out after the CEA: on the
-        // industrial preset a separate tangent is 0.5 GB more at the memory peak, and K
-        // comes back to within one rounding per entry, far below anything the next static
-        // solve resolves. With constraints the CEA is of C^T K_t C and C^T M C.
-        let tangent = |source| StudyError::Tangent { mu, source };
+        // M does not change with mu: with constraints, C^T M C is made once.
+        if self.free_mass.is_none() {
+            self.free_mass = pencil::projected_mass(&self.operators)?;
+        }
         // The tangent of the perturbation: the last increment's consistent one (CalculiX's for
-        // pairs with its law: contact::variant).
+        // pairs with its law: contact::variant), formed in K for the CEA (`analysis::pencil`).
         let after = &equilibrium.slip_after;
         let pairs = &self.model.pairs;
-        statics::add_perturbation_tangent(comm, k, dofs, pairs, slip, after, u, 1.0)
-            .map_err(tangent)?;
-        let result = match constraints {
-            None => collective(
-                comm,
-                cea::solve(comm, k, m, self.damping.as_ref(), &self.cea)
-                    .map_err(|source| StudyError::CeaAt { mu, source }),
-            ),
-            Some(t) => {
-                if self.free_mass.is_none() {
-                    self.free_mass = Some(t.project(m)?);
-                }
-                let kt = t.project(k)?;
-                let free_mass = self.free_mass.as_ref().expect("made above");
+        let (free_mass, damping, options) = (&self.free_mass, self.damping.as_ref(), &self.cea);
+        let mut result = pencil::with_tangent(
+            &mut self.operators,
+            |ops, scale| {
+                let Operators {
+                    dofs, stiffness, ..
+                } = ops;
+                statics::add_perturbation_tangent(
+                    comm, stiffness, dofs, pairs, slip, after, u, scale,
+                )
+                .map_err(|source| StudyError::Tangent { mu, source })
+            },
+            |ops| {
+                let pencil = match free_mass {
+                    Some(m) => Pencil::with_mass(ops, m)?,
+                    None => Pencil::of(ops)?,
+                };
                 collective(
                     comm,
-                    cea::solve(comm, &kt, free_mass, self.damping.as_ref(), &self.cea)
+                    cea::solve(comm, pencil.stiffness(), pencil.mass(), damping, options)
                         .map_err(|source| StudyError::CeaAt { mu, source }),
                 )
-            }
-        };
-        statics::add_perturbation_tangent(comm, k, dofs, pairs, slip, after, u, -1.0)
-            .map_err(tangent)?;
-        let mut result = result?;
-        // Shapes of a constrained model in the full numbering: u = C x (no offset: a
-        // perturbation holds the prescribed DOFs).
-        if let Some(t) = constraints {
-            for (re, im) in &mut result.shapes {
-                *re = t.expand(re, 0.0)?;
-                *im = t.expand(im, 0.0)?;
-            }
+            },
+        )?;
+        for (re, im) in &mut result.shapes {
+            pencil::expand_shape(&self.operators, re)?;
+            pencil::expand_shape(&self.operators, im)?;
         }
+        let Operators { dofs, .. } = &self.operators;
         let cea_seconds = t_cea.elapsed().as_secs_f64();
         // Friction moves modes little from one point to the next: the next CEA sizes its
         // first window on this one's count.
