@@ -151,13 +151,22 @@ impl Model {
             .sum()
     }
 
-    /// Sets mu on the swept pairs.
-    pub fn set_swept_friction(&mut self, mu: f64) {
-        for (pair, &swept) in self.pairs.iter_mut().zip(&self.swept) {
-            if swept {
-                pair.settings.friction = mu;
-            }
-        }
+    /// The contact pairs with friction `mu` on the swept ones: a copy, so that the sweep's
+    /// variable goes to each solve as an argument and the model keeps the friction its
+    /// study gave (it was written into the model's own pairs, and a failed cut-back left
+    /// them at the last friction tried).
+    pub fn pairs_at(&self, mu: f64) -> Vec<ContactPair> {
+        self.pairs
+            .iter()
+            .zip(&self.swept)
+            .map(|(pair, &swept)| {
+                let mut pair = pair.clone();
+                if swept {
+                    pair.settings.friction = mu;
+                }
+                pair
+            })
+            .collect()
     }
 
     /// The nodes of the swept pairs' contact points (slave and master side) and the nodes

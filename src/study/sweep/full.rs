@@ -332,7 +332,7 @@ impl<'rt> FullModel<'rt> {
         increments: usize,
         max_cutbacks: usize,
     ) -> Result<statics::StaticSolution, statics::StaticsError> {
-        self.model.set_swept_friction(mu);
+        let pairs = self.model.pairs_at(mu);
         let Operators {
             dofs,
             stiffness,
@@ -344,7 +344,7 @@ impl<'rt> FullModel<'rt> {
             dofs,
             stiffness,
             load,
-            pairs: &self.model.pairs,
+            pairs: &pairs,
             slip: start.map_or(&no_slip, |p| &p.slip),
             bodies: &self.bodies,
             constraints: self.operators.constraints.as_ref(),
@@ -395,6 +395,7 @@ impl<'rt> FullModel<'rt> {
     fn constraint_forces(
         &self,
         comm: Comm<'rt>,
+        pairs: &[contact::ContactPair],
         equilibrium: &statics::StaticSolution,
     ) -> Result<Option<Vec<[f64; 3]>>, statics::StaticsError> {
         let Operators {
@@ -411,7 +412,7 @@ impl<'rt> FullModel<'rt> {
             dofs,
             stiffness,
             load,
-            pairs: &self.model.pairs,
+            pairs,
             slip: &equilibrium.slip_before,
             bodies: &self.bodies,
             constraints: constraints.as_ref(),
@@ -534,8 +535,7 @@ impl<'rt> FullModel<'rt> {
         slip: &SlipHistory,
         f: impl FnOnce(&Operators<'rt>) -> Result<T, StudyError>,
     ) -> Result<T, StudyError> {
-        self.model.set_swept_friction(mu);
-        let pairs = &self.model.pairs;
+        let pairs = &self.model.pairs_at(mu);
         pencil::with_tangent(
             &mut self.operators,
             |ops, scale| {
@@ -601,15 +601,14 @@ impl<'rt> FrictionModel<'rt> for FullModel<'rt> {
         let t_static = Instant::now();
         let equilibrium = self.static_at(comm, mu)?;
         let u = &equilibrium.displacement;
+        let pairs = &self.model.pairs_at(mu);
         let constraint_forces = self
-            .constraint_forces(comm, &equilibrium)
+            .constraint_forces(comm, pairs, &equilibrium)
             .map_err(|source| StudyError::Static { mu, source })?;
         let mut contact_reports = Vec::new();
         let mut normal_total = 0.0;
         let slip = &equilibrium.slip_before;
-        for ((pair, states), &swept) in self
-            .model
-            .pairs
+        for ((pair, states), &swept) in pairs
             .iter()
             .zip(&equilibrium.contact)
             .zip(&self.model.swept)
@@ -635,7 +634,6 @@ impl<'rt> FrictionModel<'rt> for FullModel<'rt> {
         // The tangent of the perturbation: the last increment's consistent one (CalculiX's for
         // pairs with its law: contact::variant), formed in K for the CEA (`analysis::pencil`).
         let after = &equilibrium.slip_after;
-        let pairs = &self.model.pairs;
         let (free_mass, damping, options) = (&self.free_mass, self.damping.as_ref(), &self.cea);
         let mut result = pencil::with_tangent(
             &mut self.operators,

@@ -674,12 +674,15 @@ impl<'rt> FrictionModel<'rt> for SuperElementModel<'rt> {
         comm.sum_in_place(&mut peak_sum);
 
         let model = &self.base.model;
+        // The pairs at this point's friction: a swept pair's summary divides its torque by
+        // mu N (the effective radius).
+        let pairs = model.pairs_at(mu);
         let n_b = current.se.boundary_size();
         // Contact states: every pair's from the penalty law at the expanded equilibrium, on
         // every rank (the same data, so a failure is every rank's); the swept pairs' are then
         // replaced on rank 0 by the dense laws'.
         let mut states: Vec<Vec<PointState>> =
-            statics::contact_states(&model.pairs, &current.slip, &u_static)?;
+            statics::contact_states(&pairs, &current.slip, &u_static)?;
         let (report, tracking_shapes, fields) = match &dense.root {
             Some((statics, cea, start_residual, static_seconds, cea_seconds)) if root => {
                 for (state, &(i, k)) in statics.pairs.iter().zip(&current.boundary_points) {
@@ -708,8 +711,7 @@ impl<'rt> FrictionModel<'rt> for SuperElementModel<'rt> {
                     };
                 }
                 let mut normal_total = 0.0;
-                let contact_reports = model
-                    .pairs
+                let contact_reports = pairs
                     .iter()
                     .zip(&states)
                     .enumerate()
