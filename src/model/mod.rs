@@ -201,3 +201,31 @@ impl Model {
         nodes
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::study::config::Study;
+
+    /// `pairs_at` puts mu on the swept pairs of its copy alone: the kept pairs keep their own
+    /// friction, and the model keeps the friction its study gave.
+    #[test]
+    fn pairs_at_sets_mu_on_the_swept_pairs_of_a_copy() {
+        let model = Model::from_spec(&Study::builtin("tiny-caliper").model_spec()).unwrap();
+        let before: Vec<f64> = model.pairs.iter().map(|p| p.settings.friction).collect();
+        assert!(model.swept.iter().any(|&s| s) && model.swept.iter().any(|&s| !s));
+        let pairs = model.pairs_at(0.73);
+        for (((pair, original), &swept), &own) in pairs
+            .iter()
+            .zip(&model.pairs)
+            .zip(&model.swept)
+            .zip(&before)
+        {
+            let expect = if swept { 0.73 } else { own };
+            assert_eq!(pair.settings.friction, expect, "{}", pair.settings.name);
+            assert_eq!(pair.points, original.points);
+        }
+        let after: Vec<f64> = model.pairs.iter().map(|p| p.settings.friction).collect();
+        assert_eq!(before, after);
+    }
+}

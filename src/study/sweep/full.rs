@@ -7,6 +7,7 @@ use super::{
     UnstableShape,
 };
 use crate::analysis::cea::{self, CeaOptions, RayleighDamping};
+use crate::analysis::continuation::{self, FrictionState};
 use crate::analysis::pencil::{self, Pencil};
 use crate::analysis::restraint::{self, Body};
 use crate::analysis::statics::{self, StaticOptions, StaticProblem};
@@ -43,7 +44,7 @@ pub struct FullModel<'rt> {
     increments: usize,
     ranks: usize,
     /// The previous point's equilibrium (warm start).
-    previous: Option<Previous>,
+    previous: Option<FrictionState>,
     /// The equilibrium before that one: with `previous`, the secant along the friction path
     /// that predicts the next point's displacements (see `predicted`).
     earlier: Option<PathPoint>,
@@ -233,11 +234,8 @@ impl<'rt> FullModel<'rt> {
     /// previous one this model solved, which it then becomes. Collective.
     ///
     /// The first point ramps the load (the study's increments, cut back on failure). Later
-    /// points start from the previous equilibrium under the full load, and the friction is
-    /// what changes: when the direct step fails, it is taken again from there in 2, 4, 8
-    /// and 16 equal friction steps, each carrying the slip history to the next (the path a
-    /// Coulomb contact follows as the disc friction rises). Cutting the load back from a
-    /// loaded state would unload the brake and make the contacts slip back.
+    /// points continue in friction from the previous equilibrium under the full load, from
+    /// a secant prediction when two points came before ([`continuation::reach`]).
     pub(super) fn static_at(
         &mut self,
         comm: Comm<'rt>,
@@ -255,72 +253,32 @@ impl<'rt> FullModel<'rt> {
                     StaticOptions::default().max_cutbacks,
                 )
                 .map_err(|source| StudyError::Static { mu, source })?;
-            self.remember(mu, &equilibrium);
+            self.previous = Some(FrictionState::after(mu, &equilibrium));
             self.earlier = None;
             return Ok(equilibrium);
         };
-        let from = previous.mu;
-        let predicted = self.predicted(&previous, mu);
-        let direct = self.solve_static(
-            comm,
-            mu,
-            Some(predicted.as_ref().unwrap_or(&previous)),
-            1,
-            0,
-        );
-        let first_error = match direct {
+        let predicted = self
+            .earlier
+            .as_ref()
+            .and_then(|e| previous.predicted(e.mu, &e.displacement, mu));
+        let start = predicted.as_ref().unwrap_or(&previous);
+        match continuation::reach(&previous, mu, start, |at, from| {
+            self.solve_static(comm, at, Some(from), 1, 0)
+        }) {
             Ok(equilibrium) => {
-                self.remember(mu, &equilibrium);
+                self.previous = Some(FrictionState::after(mu, &equilibrium));
                 self.earlier = Some(PathPoint {
                     mu: previous.mu,
                     displacement: previous.displacement,
                 });
-                return Ok(equilibrium);
+                Ok(equilibrium)
             }
-            Err(e) => e,
-        };
-        let mut cutbacks = vec![(mu, first_error.to_string())];
-        for parts in [2, 4, 8, 16] {
-            tracing::warn!("mu {from} -> {mu} in one step failed; trying {parts} friction steps");
-            let mut start = previous.clone();
-            let mut increments = Vec::new();
-            let mut reached = None;
-            for k in 1..=parts {
-                let at = from + (mu - from) * k as f64 / parts as f64;
-                match self.solve_static(comm, at, Some(&start), 1, 0) {
-                    Ok(e) => {
-                        increments.extend(e.increments.iter().cloned());
-                        start = Previous {
-                            mu: at,
-                            displacement: e.displacement.clone(),
-                            slip: e.slip_after.clone(),
-                        };
-                        reached = Some(e);
-                    }
-                    Err(e) => {
-                        cutbacks.push((at, e.to_string()));
-                        reached = None;
-                        break;
-                    }
-                }
-            }
-            if let Some(mut equilibrium) = reached {
-                equilibrium.increments = increments;
-                equilibrium.cutbacks = cutbacks;
-                self.remember(mu, &equilibrium);
-                self.earlier = Some(PathPoint {
-                    mu: previous.mu,
-                    displacement: previous.displacement,
-                });
-                return Ok(equilibrium);
+            Err(source) => {
+                let from = previous.mu;
+                self.previous = Some(previous);
+                Err(StudyError::StaticFrom { mu, from, source })
             }
         }
-        self.previous = Some(previous);
-        Err(StudyError::StaticFrom {
-            mu,
-            from,
-            source: first_error,
-        })
     }
 
     /// One static solve at friction `mu` from `start` (or from rest). Collective.
@@ -328,7 +286,7 @@ impl<'rt> FullModel<'rt> {
         &mut self,
         comm: Comm<'rt>,
         mu: f64,
-        start: Option<&Previous>,
+        start: Option<&FrictionState>,
         increments: usize,
         max_cutbacks: usize,
     ) -> Result<statics::StaticSolution, statics::StaticsError> {
@@ -471,7 +429,7 @@ impl<'rt> FullModel<'rt> {
                     self.model.pairs.len()
                 )));
             }
-            Some(s) => Some(Previous {
+            Some(s) => Some(FrictionState {
                 mu: s.mu,
                 displacement: s.displacement.clone(),
                 slip: s.slip_history(),
@@ -489,37 +447,6 @@ impl<'rt> FullModel<'rt> {
     /// falls for 4-5 iterations before the quadratic tail). The secant puts most of them in
     /// their new state at once: tiny-caliper, mu 0.3 to 0.7 by 0.1, the warm points took
     /// 8, 5, 4, 4 Newton iterations (each a factorisation) where they took 8, 8, 8, 8.
-    fn predicted(&self, previous: &Previous, mu: f64) -> Option<Previous> {
-        let PathPoint {
-            mu: mu0,
-            displacement: u0,
-        } = self.earlier.as_ref()?;
-        let step = previous.mu - mu0;
-        let ratio = (mu - previous.mu) / step;
-        if !(step.abs() > 1e-12 && ratio > 0.0 && ratio <= 2.0) {
-            return None;
-        }
-        let displacement = previous
-            .displacement
-            .iter()
-            .zip(u0)
-            .map(|(a, b)| std::array::from_fn(|c| a[c] + ratio * (a[c] - b[c])))
-            .collect();
-        Some(Previous {
-            mu: previous.mu,
-            displacement,
-            slip: previous.slip.clone(),
-        })
-    }
-
-    fn remember(&mut self, mu: f64, equilibrium: &statics::StaticSolution) {
-        self.previous = Some(Previous {
-            mu,
-            displacement: equilibrium.displacement.clone(),
-            slip: equilibrium.slip_after.clone(),
-        });
-    }
-
     pub(super) fn operators(&self) -> &Operators<'rt> {
         &self.operators
     }
@@ -735,15 +662,6 @@ impl<'rt> FrictionModel<'rt> for FullModel<'rt> {
             fields,
         })
     }
-}
-
-/// An equilibrium a static solve starts from: its friction, displacements and the slip
-/// history after it (where the Coulomb pairs start from).
-#[derive(Clone)]
-struct Previous {
-    mu: f64,
-    displacement: Vec<[f64; 3]>,
-    slip: SlipHistory,
 }
 
 /// The mesh nodes' values of a field over all nodes (extra nodes are not drawn).
