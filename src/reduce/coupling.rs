@@ -461,12 +461,14 @@ mod tests {
                 );
                 assert!(seen.insert(node, k).is_none(), "node {node} in two shares");
             }
-            let q = grid.plane.to_plane(mesh.nodes[c.nodes[0].node]);
-            let d = |j: usize| {
-                let g = grid.nodes[j].plane;
-                (g[0] - q[0]).powi(2) + (g[1] - q[1]).powi(2)
-            };
-            assert!((0..grid.count()).all(|j| d(k) <= d(j)));
+            for n in &c.nodes {
+                let q = grid.plane.to_plane(mesh.nodes[n.node]);
+                let d = |j: usize| {
+                    let g = grid.nodes[j].plane;
+                    (g[0] - q[0]).powi(2) + (g[1] - q[1]).powi(2)
+                };
+                assert!((0..grid.count()).all(|j| d(k) <= d(j)), "node {}", n.node);
+            }
         }
         assert_eq!(seen.len(), areas.len());
         let total: f64 = areas.values().sum();
