@@ -500,7 +500,6 @@ fn assembly_matches_the_reduced_interface(rt: &Runtime) -> Result<Vec<f64>, Stri
     let s = setup(rt)?;
     let cb = build(&s, rt, 15_000.0)?;
     let se = &cb.superelement;
-    let mut out = Vec::new();
     for k_cubic in [0.0, 1e17] {
         let contact = CubicContact {
             k_linear: None,
@@ -515,11 +514,10 @@ fn assembly_matches_the_reduced_interface(rt: &Runtime) -> Result<Vec<f64>, Stri
                 "eq. 5: |R(q_s)| / |load| = {residual:e} (k_nl {k_cubic:e})"
             ));
         }
-        out.push(residual.max(1e-300).log10().round());
+        // Not compared between rank counts: round-off (see the patch-law check).
     }
     let assembly = Assembly::new(se, &CubicContact::default()).map_err(e)?;
-    out.extend(dense_against_sparse(rt, &s, &assembly)?);
-    Ok(out)
+    dense_against_sparse(rt, &s, &assembly)
 }
 
 /// The super-element of a reduced interface whose contacts carry patch laws (their tilt
