@@ -36,6 +36,12 @@ impl FrictionState {
     /// mu - earlier_mu). Only forward and at most two of the step that made it (0 < ratio
     /// <= 2): farther, the path may have turned. It keeps this state's friction and slip
     /// history (the solve starts there).
+    ///
+    /// Why: from the previous equilibrium alone, Newton spends its first iterations finding
+    /// which Coulomb points stick, slip or open at the new friction (the residual rises and
+    /// falls for 4-5 iterations before the quadratic tail). The secant puts most of them in
+    /// their new state at once: tiny-caliper, mu 0.3 to 0.7 by 0.1, the warm points took
+    /// 8, 5, 4, 4 Newton iterations (each a factorisation) where they took 8, 8, 8, 8.
     pub fn predicted(
         &self,
         earlier_mu: f64,

@@ -198,12 +198,13 @@ impl ReducedInterface {
                 } else {
                     "; patch laws (two tilt nodes per reduced contact node)"
                 };
-                let shares = match p.pad_coupling {
-                    PadCoupling::Distributing => "",
-                    PadCoupling::Share => "; pad couplings over the shares",
+                // With share couplings the radius is the disc-side patches' alone.
+                let radius = match p.pad_coupling {
+                    PadCoupling::Distributing => "radius of influence",
+                    PadCoupling::Share => "pad couplings over the shares; disc-side radius",
                 };
                 format!(
-                    "{}: {}; radius of influence {:.4e} ({:.3} h), tie springs up to {:.3e} N/m{shares}{patch}",
+                    "{}: {}; {radius} {:.4e} ({:.3} h), tie springs up to {:.3e} N/m{patch}",
                     p.pair,
                     p.grid.summary(),
                     p.radius,

@@ -46,7 +46,7 @@ pub struct FullModel<'rt> {
     /// The previous point's equilibrium (warm start).
     previous: Option<FrictionState>,
     /// The equilibrium before that one: with `previous`, the secant along the friction path
-    /// that predicts the next point's displacements (see `predicted`).
+    /// that predicts the next point's displacements ([`FrictionState::predicted`]).
     earlier: Option<PathPoint>,
     /// Where each swept pair's contact forces land on its pad surface.
     spread: Vec<SweptSurface>,
@@ -438,15 +438,6 @@ impl<'rt> FullModel<'rt> {
         Ok(())
     }
 
-    /// The warm start at `mu`: the previous equilibrium moved along the secant through the
-    /// two last ones (same slip history), when there are two and `mu` lies ahead on their
-    /// line by at most twice their step; else the previous equilibrium itself.
-    ///
-    /// Why: from the previous equilibrium alone, Newton spends its first iterations finding
-    /// which Coulomb points stick, slip or open at the new friction (the residual rises and
-    /// falls for 4-5 iterations before the quadratic tail). The secant puts most of them in
-    /// their new state at once: tiny-caliper, mu 0.3 to 0.7 by 0.1, the warm points took
-    /// 8, 5, 4, 4 Newton iterations (each a factorisation) where they took 8, 8, 8, 8.
     pub(super) fn operators(&self) -> &Operators<'rt> {
         &self.operators
     }
