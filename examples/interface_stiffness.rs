@@ -199,11 +199,10 @@ fn run(rt: &Runtime) -> Result<Vec<String>, String> {
         material.young *= disc_stiffer;
     }
     let settings = InterfaceSettings {
-        size: GridSize::Count(nodes),
-        tilt,
+        tilt: Some(tilt),
         radius,
         disc_coupling,
-        ..Default::default()
+        ..InterfaceSettings::paper(GridSize::Count(nodes))
     };
     let reduced = reduce_interface(&full, &settings).map_err(|e| e.to_string())?;
     let load = full.applied_load();

@@ -43,9 +43,8 @@ fn main() {
     let study = Study::builtin(preset);
     let model = Model::from_spec(&study.model_spec()).unwrap();
     let settings = InterfaceSettings {
-        size: GridSize::Count(count),
         area_weighting,
-        ..Default::default()
+        ..InterfaceSettings::paper(GridSize::Count(count))
     };
     let reduced = reduce_interface(&model, &settings).unwrap();
     let (full, red) = (read(full_dir, mu), read(red_dir, mu));

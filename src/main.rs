@@ -334,11 +334,13 @@ struct InterfaceFlags {
     #[arg(long, default_value = "grid-optimal")]
     radius: String,
     /// How each reduced contact node is tied to the pad face (study key
-    /// reduction.pad_coupling; default distributing).
+    /// reduction.pad_coupling; default auto: share couplings where every share holds at
+    /// least three face nodes off one line, distributing otherwise).
     #[arg(long, value_enum)]
     pad_coupling: Option<squeal::reduce::PadCoupling>,
     /// How each disc node of the reduced interface is tied to the disc face (study key
-    /// reduction.disc_coupling; default shape-functions).
+    /// reduction.disc_coupling; default auto: share with share pad couplings, shape
+    /// functions otherwise).
     #[arg(long, value_enum)]
     disc_coupling: Option<squeal::reduce::DiscCoupling>,
     /// Weigh the distributing couplings' nodes by their tributary areas too (study key
@@ -347,8 +349,9 @@ struct InterfaceFlags {
     area_weighting: bool,
     /// Whether each reduced contact carries its patch law: the full model's penalty over its
     /// share of the pad face, tilt included (study key reduction.tilt; squeal's addition to
-    /// the paper's point contacts; super-elements carry it too, without --k-linear or
-    /// --k-cubic).
+    /// the paper's point contacts; super-elements carry it too). Default: patch laws, unless
+    /// --k-linear or --k-cubic asks for the paper's cubic law or a swept pair's law admits
+    /// none (Coulomb stick, bilateral, CalculiX's).
     #[arg(long)]
     tilt: Option<bool>,
 }
@@ -411,9 +414,7 @@ fn reduction_flags(
     spec.pad_coupling = pad_coupling.unwrap_or_default();
     spec.disc_coupling = disc_coupling.unwrap_or_default();
     spec.area_weighting = area_weighting;
-    if let Some(tilt) = tilt {
-        spec.tilt = tilt;
-    }
+    spec.tilt = tilt;
     Ok(Some(spec))
 }
 

@@ -88,10 +88,9 @@ fn reduced_with(
     disc_coupling: DiscCoupling,
 ) -> Result<Model, String> {
     let settings = InterfaceSettings {
-        size: GridSize::Count(count),
         spring_factor,
         disc_coupling,
-        ..Default::default()
+        ..InterfaceSettings::paper(GridSize::Count(count))
     };
     Ok(reduce_interface(model, &settings).map_err(e)?.model)
 }
@@ -303,7 +302,7 @@ fn share_couplings(rt: &Runtime) -> Result<Vec<f64>, String> {
     // refused, naming it: `reduce::coupling` tests that).
     let settings = InterfaceSettings {
         size: GridSize::Count(6),
-        tilt: true,
+        tilt: Some(true),
         pad_coupling: PadCoupling::Share,
         disc_coupling: DiscCoupling::Share,
         ..Default::default()
@@ -414,9 +413,8 @@ fn disc_couplings_agree(rt: &Runtime) -> Result<Vec<f64>, String> {
 fn patch_laws(rt: &Runtime) -> Result<Vec<f64>, String> {
     let tilted = |model: &Model| -> Result<Model, String> {
         let settings = InterfaceSettings {
-            size: GridSize::Count(22),
-            tilt: true,
-            ..Default::default()
+            tilt: Some(true),
+            ..InterfaceSettings::paper(GridSize::Count(22))
         };
         Ok(reduce_interface(model, &settings).map_err(e)?.model)
     };

@@ -540,10 +540,12 @@ fn the_mesh_file_example_runs_and_its_model_is_the_built_in_one() {
     }
 }
 
-/// The quick study (no file, no preset) compares reduced contacts with patch laws, and
-/// says so in the study it writes; a `--preset` study keeps the paper's point contacts.
+/// The quick study (no file, no preset) writes the interface choice it leaves to squeal
+/// (`pad_coupling = "auto"`: share couplings and patch laws where the pad faces hold them)
+/// and no `tilt`, which that choice makes; a `--preset` study has no `[reduction]` and gets
+/// the same defaults.
 #[test]
-fn the_quick_study_writes_its_patch_laws_and_a_preset_study_does_not() {
+fn the_studies_write_that_the_interface_is_squeals_choice() {
     let dir = scratch("study", "quick-plan");
     let quick = dir.join("quick.toml");
     let preset = dir.join("preset.toml");
@@ -560,17 +562,13 @@ fn the_quick_study_writes_its_patch_laws_and_a_preset_study_does_not() {
         toml::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
     };
     let quick = read(&quick);
+    let reduction = quick.get("reduction");
     assert_eq!(
-        quick.get("reduction").and_then(|r| r.get("tilt")),
-        Some(&toml::Value::Boolean(true)),
+        reduction.and_then(|r| r.get("pad_coupling")),
+        Some(&toml::Value::String("auto".into())),
         "{quick}"
     );
+    assert!(reduction.and_then(|r| r.get("tilt")).is_none(), "{quick}");
     let preset = read(&preset);
-    assert!(
-        preset
-            .get("reduction")
-            .and_then(|r| r.get("tilt"))
-            .is_none(),
-        "{preset}"
-    );
+    assert!(preset.get("reduction").is_none(), "{preset}");
 }

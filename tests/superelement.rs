@@ -101,9 +101,8 @@ fn setup_with(rt: &Runtime, tilt: bool, shares: bool) -> Result<Setup<'_>, Strin
     }
     let full = Model::from_spec(&study.model_spec()).map_err(e)?;
     let mut settings = InterfaceSettings {
-        size: GridSize::Count(6),
-        tilt,
-        ..Default::default()
+        tilt: Some(tilt),
+        ..InterfaceSettings::paper(GridSize::Count(6))
     };
     if shares {
         settings.pad_coupling = PadCoupling::Share;

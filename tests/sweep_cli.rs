@@ -578,8 +578,15 @@ fn bad_reductions_name_the_key_or_the_node_and_write_nothing() {
     };
     let e = tiny(&["--contact-nodes-per-pad", "0"]);
     assert!(e.contains("reduction.contact_nodes_per_pad"), "{e}");
-    // A radius of influence that catches no pad node.
-    let e = tiny(&["--contact-nodes-per-pad", "6", "--radius", "1e-6"]);
+    // A radius of influence that catches no pad node (the paper's couplings have one).
+    let e = tiny(&[
+        "--contact-nodes-per-pad",
+        "6",
+        "--pad-coupling",
+        "distributing",
+        "--radius",
+        "1e-6",
+    ]);
     assert!(
         e.contains("reduced contact node") && e.contains("catches 0 surface node"),
         "{e}"

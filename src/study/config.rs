@@ -127,13 +127,15 @@ pub struct ReductionSpec {
     /// Stiffness of each tie spring (N/m); default 1000 times the node's contact stiffness.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub spring_stiffness: Option<f64>,
-    /// How each reduced contact node is tied to the pad face: "distributing" (default, the
-    /// paper's radius of influence) or "share" (its share's nodes by tributary area).
-    #[serde(default, skip_serializing_if = "is_default")]
+    /// How each reduced contact node is tied to the pad face: "share" (its share's nodes by
+    /// tributary area), "distributing" (the paper's radius of influence) or "auto" (default:
+    /// share where every share holds enough face nodes). Always written: its default was
+    /// "distributing" before 2026-11-28, so a study without it keys its stages apart.
+    #[serde(default)]
     pub pad_coupling: PadCoupling,
-    /// How each disc node is tied to the disc face: "shape-functions" (default),
-    /// "distributing" (the pad side's weighting and radius) or "share" (the disc surface
-    /// under the node's share).
+    /// How each disc node is tied to the disc face: "shape-functions", "distributing" (the
+    /// pad side's weighting and radius), "share" (the disc surface under the node's share)
+    /// or "auto" (default: share with share pad couplings, shape functions otherwise).
     #[serde(default)]
     pub disc_coupling: DiscCoupling,
     /// Weigh each coupled node by its tributary area too (Abaqus 6.10's mesh-size weighting).
@@ -142,9 +144,10 @@ pub struct ReductionSpec {
     /// Each reduced contact carries its patch law: the full model's penalty integrated over
     /// its share of the pad face, tilt included (squeal's addition to the paper's point
     /// contacts, [`crate::reduce::tilt`]). Super-elements then carry the same law, with no
-    /// cubic k_linear or k_cubic.
-    #[serde(default = "default_tilt", skip_serializing_if = "std::ops::Not::not")]
-    pub tilt: bool,
+    /// cubic k_linear or k_cubic. Absent: patch laws unless k_linear or k_cubic asks for
+    /// the cubic law, or a swept pair's law admits none (then the paper's point contacts).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tilt: Option<bool>,
     /// Craig-Bampton super-elements on the reduced interface, assembled with node-to-node
     /// cubic contact: "single", "per-friction" or "adaptive". Absent: the reduced-interface
     /// model itself is swept.
@@ -263,15 +266,6 @@ impl ComparisonSpec {
 fn cubic() -> Weighting {
     Weighting::Cubic
 }
-/// Keys left at their default are not written, so that a study written before they existed
-/// keeps its stage keys.
-fn is_default<T: Default + PartialEq>(value: &T) -> bool {
-    *value == T::default()
-}
-
-fn default_tilt() -> bool {
-    crate::reduce::interface::DEFAULT_TILT
-}
 fn grid_optimal() -> RadiusChoice {
     RadiusChoice::GridOptimal
 }
@@ -288,7 +282,7 @@ impl ReductionSpec {
             pad_coupling: PadCoupling::default(),
             disc_coupling: DiscCoupling::default(),
             area_weighting: false,
-            tilt: default_tilt(),
+            tilt: None,
             superelements: None,
             superelement_friction: None,
             cutoff_frequency_hz: None,
@@ -312,8 +306,13 @@ impl ReductionSpec {
             pad_coupling: self.pad_coupling,
             disc_coupling: self.disc_coupling,
             area_weighting: self.area_weighting,
-            tilt: self.tilt,
+            tilt: self.tilt.or(self.cubic_law().then_some(false)),
         }
+    }
+
+    /// Whether k_linear or k_cubic asks for the paper's cubic law between point contacts.
+    pub fn cubic_law(&self) -> bool {
+        self.k_linear.is_some() || self.k_cubic.is_some_and(|k| k != 0.0)
     }
 }
 
@@ -769,8 +768,10 @@ impl Study {
                 .comparison
                 .as_ref()
                 .is_some_and(|c| !c.superelements.is_empty());
-            let cubic = r.k_linear.is_some() || r.k_cubic.is_some_and(|k| k != 0.0);
-            if r.tilt && cubic && (r.superelements.is_some() || compared_superelements) {
+            if r.tilt == Some(true)
+                && r.cubic_law()
+                && (r.superelements.is_some() || compared_superelements)
+            {
                 return Err(bad(
                     "reduction.tilt".into(),
                     "a super-element's patch laws are the reduced-interface model's penalty \
@@ -1307,10 +1308,28 @@ mod tests {
         assert!(!text.contains("tilt"), "{text}");
     }
 
+    /// Without `tilt` the interface decides (None), unless k_linear or k_cubic asks for the
+    /// paper's cubic law, which point contacts carry.
+    #[test]
+    fn tilt_is_left_to_the_interface_unless_a_cubic_law_is_asked_for() {
+        let settings = |text: &str| {
+            toml::from_str::<ReductionSpec>(&format!("contact_nodes_per_pad = 6\n{text}"))
+                .unwrap()
+                .settings()
+                .tilt
+        };
+        assert_eq!(settings(""), None);
+        assert_eq!(settings("k_cubic = 0.0\n"), None);
+        assert_eq!(settings("k_cubic = 1e20\n"), Some(false));
+        assert_eq!(settings("k_linear = 1e9\n"), Some(false));
+        assert_eq!(settings("tilt = true\n"), Some(true));
+        assert_eq!(settings("tilt = false\n"), Some(false));
+    }
+
     #[test]
     fn the_disc_coupling_and_area_weighting_keys_read_and_errors_name_them() {
         let r: ReductionSpec = toml::from_str("contact_nodes_per_pad = 6\n").unwrap();
-        assert_eq!(r.settings().disc_coupling, DiscCoupling::ShapeFunctions);
+        assert_eq!(r.settings().disc_coupling, DiscCoupling::Auto);
         assert!(!r.settings().area_weighting);
         let r: ReductionSpec = toml::from_str(
             "contact_nodes_per_pad = 6\ndisc_coupling = \"distributing\"\narea_weighting = true\n",
@@ -1332,17 +1351,16 @@ mod tests {
         );
     }
 
-    /// `pad_coupling` reads, names itself when wrong, and is not written at its default (a
-    /// study written before the key existed keeps its stage keys).
+    /// `pad_coupling` reads, names itself when wrong, and is written at its default too:
+    /// the default was "distributing" before it was "auto", and a study that does not name
+    /// it must not find the stages of the old default under its keys.
     #[test]
-    fn the_pad_coupling_key_reads_and_is_written_only_when_set() {
-        let r: ReductionSpec = toml::from_str(
-            "contact_nodes_per_pad = 6
-",
-        )
-        .unwrap();
-        assert_eq!(r.settings().pad_coupling, PadCoupling::Distributing);
-        assert!(!toml::to_string(&r).unwrap().contains("pad_coupling"));
+    fn the_pad_coupling_key_reads_and_is_always_written() {
+        let r: ReductionSpec = toml::from_str("contact_nodes_per_pad = 6\n").unwrap();
+        assert_eq!(r.settings().pad_coupling, PadCoupling::Auto);
+        assert!(toml::to_string(&r)
+            .unwrap()
+            .contains("pad_coupling = \"auto\""));
         let r: ReductionSpec =
             toml::from_str("contact_nodes_per_pad = 6\npad_coupling = \"share\"\n").unwrap();
         assert_eq!(r.settings().pad_coupling, PadCoupling::Share);

@@ -67,6 +67,11 @@ fn reduced_interface(base: Option<&ReductionSpec>, nodes: usize) -> ReductionSpe
         .unwrap_or_else(|| ReductionSpec::with_count(nodes));
     r.contact_nodes_per_pad = Some(nodes);
     r.spacing = None;
+    // The cubic law of the super-elements asks for point contacts: their reference
+    // reduced interface must have them too, with the law's settings left out of its key.
+    if r.tilt.is_none() && r.cubic_law() {
+        r.tilt = Some(false);
+    }
     r.superelements = None;
     r.superelement_friction = None;
     r.cutoff_frequency_hz = None;

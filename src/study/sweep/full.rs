@@ -860,9 +860,8 @@ mod tests {
         }
         for area_weighting in [false, true] {
             let settings = reduce::InterfaceSettings {
-                size: reduce::GridSize::Count(22),
                 area_weighting,
-                ..Default::default()
+                ..reduce::InterfaceSettings::paper(reduce::GridSize::Count(22))
             };
             let reduced = reduce::reduce_interface(&full, &settings).unwrap();
             let spreads = reduced_spread(&reduced);
