@@ -481,7 +481,7 @@ impl InterfaceSettings {
                     "point contacts"
                 },
             );
-            format!("reduced interface chosen: {pad} with {laws} ({why})")
+            format!("chosen by default: {pad} with {laws} ({why})")
         });
         Ok((s, reason))
     }
@@ -995,20 +995,18 @@ mod tests {
         // And the log says what was chosen and why, first; nothing when all was given.
         let said = reduced.summary();
         assert!(
-            said.starts_with(
-                "reduced interface chosen: share couplings with patch laws (every share"
-            ),
+            said.starts_with("chosen by default: share couplings with patch laws (every share"),
             "{said}"
         );
         let said = reduce_interface(&model, &auto(22)).unwrap().summary();
         assert!(
             said.starts_with(
-                "reduced interface chosen: the paper's distributing couplings with point \
+                "chosen by default: the paper's distributing couplings with point \
                  contacts (a share of the pad faces would hold fewer than three"
             ),
             "{said}"
         );
         let given = reduce_interface(&model, &InterfaceSettings::paper(GridSize::Count(6)));
-        assert!(!given.unwrap().summary().contains("chosen"));
+        assert!(!given.unwrap().summary().contains("chosen by default"));
     }
 }

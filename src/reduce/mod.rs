@@ -51,4 +51,4 @@ pub use interface::{
     ReducedPad,
 };
 pub use radius::{radius_table, table_text, DegreeRadius, RadiusTable};
-pub use strategy::{decide, Decision, Strategy};
+pub use strategy::{decide, Decision, Step, Strategy};

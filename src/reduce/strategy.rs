@@ -25,13 +25,67 @@ pub enum Strategy {
     Adaptive,
 }
 
+/// What a strategy does first at a friction value.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Step {
+    /// Serve it with the current super-element as it is (no static is solved), and why.
+    Keep(String),
+    /// Solve the reduced-interface static at this friction value, then ask
+    /// [`Strategy::decide`] whether to build there or move the current super-element.
+    StaticAt(f64),
+}
+
 impl Strategy {
+    /// Every strategy, in the order a study compares them.
+    pub const ALL: [Strategy; 3] = [Strategy::Single, Strategy::PerFriction, Strategy::Adaptive];
+
     pub fn name(self) -> &'static str {
         match self {
             Strategy::Single => "single",
             Strategy::PerFriction => "per-friction",
             Strategy::Adaptive => "adaptive",
         }
+    }
+
+    /// The first step at friction value `mu`, the single strategy's mu_SE being `mu_se`
+    /// and `has_current` saying whether a super-element was made before.
+    pub fn step(self, mu: f64, mu_se: f64, has_current: bool) -> Step {
+        match self {
+            Strategy::Single if has_current => {
+                Step::Keep(format!("single: the super-element made at mu_SE = {mu_se}"))
+            }
+            Strategy::Single => Step::StaticAt(mu_se),
+            Strategy::PerFriction | Strategy::Adaptive => Step::StaticAt(mu),
+        }
+    }
+
+    /// After the static at `at` ([`Step::StaticAt`]): build there, or reuse the current
+    /// super-element. `current`: the kept contacts' states the current one was made with
+    /// (`None`: there is none); `now`: theirs at `at` (asked for only by the adaptive rule,
+    /// [`decide`]).
+    pub fn decide(
+        self,
+        at: f64,
+        current: Option<&ContactStates>,
+        now: impl FnOnce() -> Vec<(String, Vec<Status>)>,
+    ) -> Decision {
+        match self {
+            Strategy::Single => Decision::Rebuild(format!("single: made at mu_SE = {at}")),
+            Strategy::PerFriction => Decision::Rebuild("per-friction: made at this mu".into()),
+            Strategy::Adaptive => decide(current, &now()),
+        }
+    }
+
+    /// Whether a super-element may serve a later friction value too, so that a checkpoint
+    /// must keep it (per-friction builds a new one at every value).
+    pub fn reuses(self) -> bool {
+        self != Strategy::PerFriction
+    }
+
+    /// Whether mu_SE changes what it computes: the single strategy's alone, so a new mu_SE
+    /// recomputes only its stage.
+    pub fn depends_on_superelement_friction(self) -> bool {
+        self == Strategy::Single
     }
 }
 
@@ -163,5 +217,49 @@ mod tests {
             let text = toml::to_string(&std::collections::BTreeMap::from([("s", s)])).unwrap();
             assert_eq!(text.trim(), format!("s = \"{}\"", s.name()));
         }
+    }
+
+    /// The three strategies' steps and decisions: single makes one super-element at mu_SE
+    /// and keeps it without a static; per-friction builds at every value; adaptive solves
+    /// every static and builds only when a kept contact changed state.
+    #[test]
+    fn each_strategy_steps_and_decides_as_the_paper_describes() {
+        let (mu, mu_se) = (0.3, 0.5);
+        assert_eq!(
+            Strategy::Single.step(mu, mu_se, false),
+            Step::StaticAt(mu_se)
+        );
+        assert!(
+            matches!(Strategy::Single.step(mu, mu_se, true), Step::Keep(why) if why.contains("0.5"))
+        );
+        for s in [Strategy::PerFriction, Strategy::Adaptive] {
+            assert_eq!(s.step(mu, mu_se, false), Step::StaticAt(mu));
+            assert_eq!(s.step(mu, mu_se, true), Step::StaticAt(mu));
+        }
+        let was = states(&[("abutment", "oot")]);
+        let same = || states(&[("abutment", "oot")]);
+        let changed = || states(&[("abutment", "ots")]);
+        for s in [Strategy::Single, Strategy::PerFriction] {
+            assert!(matches!(
+                s.decide(mu, Some(&was), same),
+                Decision::Rebuild(_)
+            ));
+        }
+        assert_eq!(
+            Strategy::Adaptive.decide(mu, Some(&was), same),
+            Decision::Reuse
+        );
+        assert!(matches!(
+            Strategy::Adaptive.decide(mu, Some(&was), changed),
+            Decision::Rebuild(why) if why.contains("abutment")
+        ));
+        assert!(matches!(
+            Strategy::Adaptive.decide(mu, None, same),
+            Decision::Rebuild(_)
+        ));
+        assert_eq!(
+            Strategy::ALL.map(|s| (s.reuses(), s.depends_on_superelement_friction())),
+            [(true, true), (false, false), (true, false)]
+        );
     }
 }

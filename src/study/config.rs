@@ -202,7 +202,7 @@ fn default_grids() -> Vec<usize> {
     vec![22, 52]
 }
 fn all_strategies() -> Vec<Strategy> {
-    vec![Strategy::Single, Strategy::PerFriction, Strategy::Adaptive]
+    Strategy::ALL.to_vec()
 }
 
 impl Default for ComparisonSpec {

@@ -69,7 +69,7 @@ pub mod quick {
     pub fn comparison() -> ComparisonSpec {
         ComparisonSpec {
             contact_nodes_per_pad: vec![10, 22],
-            superelements: vec![Strategy::Single, Strategy::PerFriction, Strategy::Adaptive],
+            superelements: Strategy::ALL.to_vec(),
             superelement_contact_nodes_per_pad: None,
             frictionless: true,
         }

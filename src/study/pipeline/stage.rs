@@ -11,7 +11,6 @@
 //! one recorded beside its folder is not run again.
 
 use crate::mesh::hash::text_hash;
-use crate::reduce::Strategy;
 use crate::study::config::{ReductionSpec, Study};
 use std::path::PathBuf;
 
@@ -182,9 +181,8 @@ pub fn plan(study: &Study, mesh_hash: &str) -> Vec<Stage> {
             let name = format!("superelements-{}-{n}", strategy.name());
             let mut r = reduced_interface(base, n);
             if let Some(b) = base {
-                // mu_SE is the single strategy's alone: the others build at the sweep's own
-                // friction values, so a new mu_SE does not recompute them.
-                if strategy == Strategy::Single {
+                // A new mu_SE recomputes only the strategies it changes.
+                if strategy.depends_on_superelement_friction() {
                     r.superelement_friction = b.superelement_friction;
                 }
                 r.cutoff_frequency_hz = b.cutoff_frequency_hz;

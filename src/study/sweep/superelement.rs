@@ -26,7 +26,7 @@ use crate::petsc::{Comm, DenseMatrix, Vector};
 use crate::reduce::assembly::{
     Assembly, CubicContact, DenseCeaOptions, DenseCeaResult, ReducedStatic, StaticOptions,
 };
-use crate::reduce::{self, Decision, LocalBasis, ReducedInterface, Strategy};
+use crate::reduce::{self, Decision, LocalBasis, ReducedInterface, Step, Strategy};
 use crate::study::bench::peak_rss_mib;
 use crate::study::config::Study;
 use crate::study::report::collective;
@@ -333,16 +333,13 @@ impl<'rt> SuperElementModel<'rt> {
             static_factorizations: 0,
             equilibrium: None,
         };
-        let at = match self.settings.strategy {
-            Strategy::Single if self.current.is_some() => {
-                choice.reason = format!(
-                    "single: the super-element made at mu_SE = {}",
-                    self.settings.friction
-                );
+        let strategy = self.settings.strategy;
+        let at = match strategy.step(mu, self.settings.friction, self.current.is_some()) {
+            Step::Keep(why) => {
+                choice.reason = why;
                 return Ok(choice);
             }
-            Strategy::Single => self.settings.friction,
-            Strategy::PerFriction | Strategy::Adaptive => mu,
+            Step::StaticAt(at) => at,
         };
         let t = Instant::now();
         let equilibrium =
@@ -357,19 +354,13 @@ impl<'rt> SuperElementModel<'rt> {
             .iter()
             .map(|i| i.factorizations)
             .sum();
-        let decision = match self.settings.strategy {
-            Strategy::Single => Decision::Rebuild(format!("single: made at mu_SE = {at}")),
-            Strategy::PerFriction => Decision::Rebuild("per-friction: made at this mu".into()),
-            Strategy::Adaptive => {
-                let now = self.kept_states(&equilibrium);
-                reduce::decide(
-                    self.current
-                        .as_ref()
-                        .map(|c| &c.se.header.other_contacts[..]),
-                    &now,
-                )
-            }
-        };
+        let decision = strategy.decide(
+            at,
+            self.current
+                .as_ref()
+                .map(|c| &c.se.header.other_contacts[..]),
+            || self.kept_states(&equilibrium),
+        );
         let t = Instant::now();
         match decision {
             Decision::Rebuild(why) => {
@@ -490,7 +481,7 @@ impl<'rt> FrictionModel<'rt> for SuperElementModel<'rt> {
     fn checkpoint(&self) -> ModelCheckpoint {
         // Per friction value a new super-element is built at every point: the current one
         // is never used again, so a resumed sweep need not rebuild it.
-        let keeps_current = self.settings.strategy != Strategy::PerFriction;
+        let keeps_current = self.settings.strategy.reuses();
         ModelCheckpoint {
             previous: self.base.previous_state(),
             earlier: self.base.earlier_state(),
