@@ -334,8 +334,8 @@ struct InterfaceFlags {
     #[arg(long, default_value = "grid-optimal")]
     radius: String,
     /// How each reduced contact node is tied to the pad face (study key
-    /// reduction.pad_coupling; default auto: share couplings where every share holds at
-    /// least three face nodes off one line, distributing otherwise).
+    /// reduction.pad_coupling; default auto: share couplings with patch laws where every
+    /// share holds three face nodes or more off one line, distributing otherwise).
     #[arg(long, value_enum)]
     pad_coupling: Option<squeal::reduce::PadCoupling>,
     /// How each disc node of the reduced interface is tied to the disc face (study key
@@ -349,9 +349,10 @@ struct InterfaceFlags {
     area_weighting: bool,
     /// Whether each reduced contact carries its patch law: the full model's penalty over its
     /// share of the pad face, tilt included (study key reduction.tilt; squeal's addition to
-    /// the paper's point contacts; super-elements carry it too). Default: patch laws, unless
-    /// --k-linear or --k-cubic asks for the paper's cubic law or a swept pair's law admits
-    /// none (Coulomb stick, bilateral, CalculiX's).
+    /// the paper's point contacts; super-elements carry it too). Default: patch laws with
+    /// share couplings where the pad faces hold them and the swept pairs' laws admit them,
+    /// the paper's point contacts otherwise (Coulomb stick, bilateral, CalculiX's law, or
+    /// --k-linear/--k-cubic asking for the paper's cubic law).
     #[arg(long)]
     tilt: Option<bool>,
 }

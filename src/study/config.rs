@@ -144,8 +144,9 @@ pub struct ReductionSpec {
     /// Each reduced contact carries its patch law: the full model's penalty integrated over
     /// its share of the pad face, tilt included (squeal's addition to the paper's point
     /// contacts, [`crate::reduce::tilt`]). Super-elements then carry the same law, with no
-    /// cubic k_linear or k_cubic. Absent: patch laws unless k_linear or k_cubic asks for
-    /// the cubic law, or a swept pair's law admits none (then the paper's point contacts).
+    /// cubic k_linear or k_cubic. Absent: patch laws with share couplings where the pad
+    /// faces hold them and the swept pairs' laws admit them, the paper's point contacts
+    /// otherwise, and whenever k_linear or k_cubic asks for the cubic law.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tilt: Option<bool>,
     /// Craig-Bampton super-elements on the reduced interface, assembled with node-to-node
