@@ -13,9 +13,9 @@
 use squeal::contact::tributary_areas;
 use squeal::model::Model;
 use squeal::reduce::{reduce_interface, GridSize, InterfaceSettings};
+use squeal::results::{ContactMap, SurfacePressure};
 use squeal::study::compare::patch_pressure_l2;
 use squeal::study::config::Study;
-use squeal::study::results::{ContactMap, SurfacePressure};
 use std::collections::BTreeMap;
 
 fn read(dir: &str, mu: f64) -> ContactMap {

@@ -16,5 +16,6 @@ pub mod mesh;
 pub mod model;
 pub mod petsc;
 pub mod reduce;
+pub mod results;
 pub mod study;
 pub mod vector3;

@@ -10,7 +10,7 @@ use crate::analysis::cea::{self, CeaOptions, ComplexMode};
 use crate::analysis::operators::matrix_from_entries;
 use crate::io::matrix;
 use crate::petsc::Runtime;
-use crate::study::results::{CeaDocument, MatrixFiles};
+use crate::results::{CeaDocument, MatrixFiles};
 use std::borrow::Cow;
 use std::path::{Path, PathBuf};
 use std::time::Instant;

@@ -19,7 +19,6 @@ pub mod plot;
 pub mod progress;
 pub mod radius;
 pub mod report;
-pub mod results;
 pub mod run;
 pub mod staging;
 pub mod sweep;

@@ -1,7 +1,7 @@
 //! What `squeal compare` can fail with: a sweep folder that cannot be read or is not a
 //! sweep, two sweeps without a shared friction value, a result that cannot be written.
 
-use crate::study::results::DocumentError;
+use crate::results::DocumentError;
 use std::path::PathBuf;
 
 #[derive(Debug, thiserror::Error)]

@@ -6,7 +6,7 @@
 use super::statics::read_contact;
 use crate::analysis::cea::ComplexMode as Mode;
 use crate::analysis::tracking::Instability as InstabilityRecord;
-use crate::study::results::SweepDocument as Sweep;
+use crate::results::SweepDocument as Sweep;
 use std::path::Path;
 
 /// Two instabilities are the same when their frequencies (at their largest real part)
@@ -28,7 +28,7 @@ pub(super) fn instability_mac(
 ) -> Option<f64> {
     let mu = ri.mu_at_max;
     let (a, b) = (read_contact(reference, mu)?, read_contact(other, mu)?);
-    let nearest = |m: &crate::study::results::ContactMap, f: f64| {
+    let nearest = |m: &crate::results::ContactMap, f: f64| {
         m.unstable_shapes
             .iter()
             .filter(|x| relative(x.frequency_hz, f) < MATCH_TOLERANCE)

@@ -28,8 +28,8 @@ pub use matching::MATCH_TOLERANCE;
 pub use statics::{patch_pressure_l2, StaticComparison, ZoneComparison};
 
 use crate::analysis::spectrum_match::{match_spectra, SpectrumMatch};
-use crate::study::results::SweepDocument as Sweep;
-use crate::study::results::{SuperElementPoint as SuperElementRecord, SweepPointReport as Point};
+use crate::results::SweepDocument as Sweep;
+use crate::results::{SuperElementPoint as SuperElementRecord, SweepPointReport as Point};
 use matching::{
     match_instabilities, nearest_modes, pair_indices, pair_modes, reference_curves, relative,
 };
@@ -398,9 +398,9 @@ mod tests {
     use super::*;
 
     /// Writes a sweep.json a test spelt out, completed with the schema's other fields
-    /// ([`crate::study::results::fixture::complete`]).
+    /// ([`crate::results::fixture::complete`]).
     fn store(dir: &Path, doc: serde_json::Value) {
-        let doc = crate::study::results::fixture::complete(doc);
+        let doc = crate::results::fixture::complete(doc);
         std::fs::create_dir_all(dir).unwrap();
         std::fs::write(dir.join("sweep.json"), doc.to_string()).unwrap();
     }
@@ -647,7 +647,7 @@ mod tests {
     /// error for a field scaled by 1.1, and node by node when each node is its own patch.
     #[test]
     fn the_patch_pressure_difference_sees_patch_forces_only() {
-        use crate::study::results::SurfacePressure;
+        use crate::results::SurfacePressure;
         // A strip of 12 nodes, areas alternating 1 and 2, two patches of 6 around x = 2.5
         // and x = 8.5.
         let node = |i: usize, pressure: f64| SurfacePressure {
@@ -843,11 +843,11 @@ mod tests {
         let folder = |name: &str, shapes: &[(f64, [f64; 3])]| {
             let dir = root.path().join(name);
             write_sweep(&dir, &[(645.0, 645.0)], 500.0);
-            let map = crate::study::results::ContactMap {
+            let map = crate::results::ContactMap {
                 shape_nodes: vec![7],
                 unstable_shapes: shapes
                     .iter()
-                    .map(|&(f, re)| crate::study::results::SurfaceShape {
+                    .map(|&(f, re)| crate::results::SurfaceShape {
                         frequency_hz: f,
                         real_part: 500.0,
                         re: vec![re],

@@ -3,8 +3,8 @@
 
 use super::statics::read_contact;
 use super::{CompareError, Comparison, InstabilityComparison};
+use crate::results::{read_document, DocumentError};
 use crate::study::report::{create_dir_all, write_atomically};
-use crate::study::results::{read_document, DocumentError};
 use std::path::{Path, PathBuf};
 
 /// The in-plane coordinates of points on a (flat) pad: the two axes along which they spread
@@ -220,7 +220,7 @@ impl Comparison {
                 let positions: Vec<[f64; 3]> = ref_points.iter().map(|p| p.position).collect();
                 let (a, b) = plane_axes(&positions);
                 let axis = ["x", "y", "z"];
-                let map = |points: &[&crate::study::results::ContactMapPoint]| {
+                let map = |points: &[&crate::results::ContactMapPoint]| {
                     points
                         .iter()
                         .map(|p| ContactMapPoint {

@@ -2,7 +2,7 @@
 //! pad pressures over the other model's patches, and each pair's closed contact zone.
 
 use crate::contact::ZoneRatios;
-use crate::study::results::SweepPointReport as Point;
+use crate::results::SweepPointReport as Point;
 use std::path::Path;
 
 /// The static states of one model against the reference's at one friction value (paper
@@ -63,7 +63,7 @@ pub(super) fn compare_zones(model: &str, reference: &Point, other: &Point) -> Ve
     out
 }
 
-pub(super) fn read_contact(dir: &Path, mu: f64) -> Option<crate::study::results::ContactMap> {
+pub(super) fn read_contact(dir: &Path, mu: f64) -> Option<crate::results::ContactMap> {
     let file = dir.join(format!("mu_{mu:.3}")).join("contact.json");
     serde_json::from_slice(&std::fs::read(file).ok()?).ok()
 }
@@ -87,14 +87,13 @@ pub(super) fn compare_statics(reference: &Path, other: &Path, mu: f64) -> Option
     let mut pressure_l2 = Vec::new();
     let mut nodal_pressure_l2 = Vec::new();
     for pair in pairs {
-        let on =
-            |m: &crate::study::results::ContactMap| -> Vec<crate::study::results::SurfacePressure> {
-                m.surface
-                    .iter()
-                    .filter(|s| s.pair == pair)
-                    .cloned()
-                    .collect()
-            };
+        let on = |m: &crate::results::ContactMap| -> Vec<crate::results::SurfacePressure> {
+            m.surface
+                .iter()
+                .filter(|s| s.pair == pair)
+                .cloned()
+                .collect()
+        };
         let points: Vec<[f64; 3]> = o
             .points
             .iter()
@@ -146,8 +145,8 @@ pub(super) fn compare_statics(reference: &Path, other: &Path, mu: f64) -> Option
 /// differences. A patch's force is what the other model resolves, and the average is
 /// exact for a uniform pressure, whatever the nodes' areas.
 pub fn patch_pressure_l2(
-    reference: &[crate::study::results::SurfacePressure],
-    other: &[crate::study::results::SurfacePressure],
+    reference: &[crate::results::SurfacePressure],
+    other: &[crate::results::SurfacePressure],
     points: &[[f64; 3]],
 ) -> Option<f64> {
     if points.is_empty() {

@@ -9,10 +9,10 @@
 pub use super::block::Block;
 use super::stage::{Stage, Work};
 use super::Outcome;
+use crate::results::{DocumentError, SweepDocument};
 use crate::study::compare::Comparison;
 use crate::study::config::Study;
 use crate::study::report::write_file;
-use crate::study::results::{DocumentError, SweepDocument};
 use crate::study::StudyError;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};

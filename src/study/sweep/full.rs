@@ -16,13 +16,13 @@ use crate::mesh::Mesh;
 use crate::model::{self, Model, Operators};
 use crate::petsc::{Comm, Matrix};
 use crate::reduce;
-use crate::study::bench::peak_rss_mib;
-use crate::study::config::Study;
-use crate::study::report::collective;
-use crate::study::results::{
+use crate::results::{
     ContactMap, ContactMapPoint, ModelInfo, PairReport, SurfacePressure, SurfaceShape,
     SweepPointReport,
 };
+use crate::study::bench::peak_rss_mib;
+use crate::study::config::Study;
+use crate::study::report::collective;
 use crate::study::StudyError;
 use num_complex::Complex64;
 use std::time::Instant;

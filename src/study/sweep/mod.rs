@@ -30,7 +30,7 @@ use crate::analysis::tracking::{self, Instability, SweepPoint, TrackingOptions};
 use crate::mesh::Mesh;
 use crate::petsc::{Comm, Runtime};
 use crate::reduce::Strategy;
-use crate::study::results::{ContactMap, ModelInfo, SweepPointReport};
+use crate::results::{ContactMap, ModelInfo, SweepPointReport};
 use num_complex::Complex64;
 use std::path::{Path, PathBuf};
 use std::time::Instant;

@@ -5,8 +5,8 @@ use super::PointFields;
 use crate::analysis::tracking::{self, Instability, SweepPoint, Track};
 use crate::io::vtu::{Field, VtuWriter};
 use crate::mesh::Mesh;
+use crate::results::{FrictionPoint, ModelInfo, SweepPointReport};
 use crate::study::report::{create_dir, json_for, write_file};
-use crate::study::results::{FrictionPoint, ModelInfo, SweepPointReport};
 use crate::study::StudyError;
 use std::path::Path;
 
@@ -84,14 +84,14 @@ pub fn write_sweep(
     instabilities: &[Instability],
 ) -> Result<(), StudyError> {
     // One schema for the writer and every reader (a few kB to clone).
-    let doc = crate::study::results::SweepDocument {
+    let doc = crate::results::SweepDocument {
         model: info.clone(),
         points: reports.to_vec(),
         tracks: tracks.to_vec(),
         instabilities: instabilities.to_vec(),
     };
     create_dir(dir)?;
-    let json = dir.join(crate::study::results::SweepDocument::FILE);
+    let json = dir.join(crate::results::SweepDocument::FILE);
     write_file(&json, &json_for(&json, &doc)?)?;
     write_plots(dir, reports, points, tracks, instabilities)
 }

@@ -22,8 +22,8 @@
 
 use super::ModelCheckpoint;
 use crate::mesh::hash::{bytes_hash, text_hash};
+use crate::results::SweepPointReport;
 use crate::study::manifest::Manifest;
-use crate::study::results::SweepPointReport;
 use crate::study::StudyError;
 use num_complex::Complex64;
 use std::path::{Path, PathBuf};

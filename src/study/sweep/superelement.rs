@@ -27,12 +27,12 @@ use crate::reduce::assembly::{
     Assembly, CubicContact, DenseCeaOptions, DenseCeaResult, ReducedStatic, StaticOptions,
 };
 use crate::reduce::{self, Decision, LocalBasis, ReducedInterface, Step, Strategy};
+use crate::results::{
+    ModelInfo, PairReport, SuperElementInfo, SuperElementPoint, SweepPointReport,
+};
 use crate::study::bench::peak_rss_mib;
 use crate::study::config::Study;
 use crate::study::report::collective;
-use crate::study::results::{
-    ModelInfo, PairReport, SuperElementInfo, SuperElementPoint, SweepPointReport,
-};
 use crate::study::StudyError;
 use faer::Mat;
 use num_complex::Complex64;
