@@ -190,10 +190,11 @@ enum Command {
     /// value of a sweep, is cached by a key of what it depends on: a rerun recomputes only
     /// what changed, the new friction values, or what an interruption left unfinished. Given
     /// neither a file nor --preset: the quick built-in study (the floating-caliper brake on
-    /// the tiny-caliper mesh, mu 0.3, 0.6, 0.9, 0-6 kHz, 10 and 22 nodes per pad with patch
-    /// laws, the three super-element strategies; about 4 minutes on 2 cores); with --preset,
-    /// that preset's built-in study (mu 0.1 to 0.9 by 0.1, 0-10 kHz, 22 and 52 nodes per pad,
-    /// point contacts).
+    /// the tiny-caliper mesh, mu 0.3, 0.6, 0.9, 0-6 kHz, 10 and 22 nodes per pad, the three
+    /// super-element strategies; about 4 minutes on 2 cores); with --preset, that preset's
+    /// built-in study (mu 0.1 to 0.9 by 0.1, 0-10 kHz, 22 and 52 nodes per pad). The reduced
+    /// interface is the default one: share couplings with patch laws where the pad faces
+    /// hold them, the paper's couplings and point contacts otherwise.
     Study {
         #[command(flatten)]
         study: StudyFlags,
@@ -355,6 +356,12 @@ struct InterfaceFlags {
     /// --k-linear/--k-cubic asking for the paper's cubic law).
     #[arg(long)]
     tilt: Option<bool>,
+    /// Reduce these pairs too, besides the swept ones (study key reduction.reduce_pairs):
+    /// all, swept (the default: the paper's disc/pad interface alone) or pair names
+    /// separated by commas. A kept pair takes the swept pads' grid side and point contacts,
+    /// unless the study's [reduction.pairs."NAME"] gives it its own grid.
+    #[arg(long)]
+    reduce_pairs: Option<squeal::reduce::ReducePairs>,
 }
 
 /// The `[reduction]` the sweep flags ask for (none without a count or spacing). Its
@@ -372,12 +379,20 @@ fn reduction_flags(
         disc_coupling,
         area_weighting,
         tilt,
+        reduce_pairs,
     } = flags.clone();
     use squeal::reduce::RadiusChoice;
     if count.is_none() && spacing.is_none() {
-        if pad_coupling.is_some() || disc_coupling.is_some() || area_weighting || tilt.is_some() {
+        if pad_coupling.is_some()
+            || disc_coupling.is_some()
+            || area_weighting
+            || tilt.is_some()
+            || reduce_pairs.is_some()
+        {
             return Err(study::StudyError::BadFlag {
-                flag: if pad_coupling.is_some() {
+                flag: if reduce_pairs.is_some() {
+                    "--reduce-pairs"
+                } else if pad_coupling.is_some() {
                     "--pad-coupling"
                 } else if disc_coupling.is_some() {
                     "--disc-coupling"
@@ -416,6 +431,7 @@ fn reduction_flags(
     spec.disc_coupling = disc_coupling.unwrap_or_default();
     spec.area_weighting = area_weighting;
     spec.tilt = tilt;
+    spec.reduce_pairs = reduce_pairs.unwrap_or_default();
     Ok(Some(spec))
 }
 

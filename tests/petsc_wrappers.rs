@@ -41,6 +41,7 @@ const CHECKS: &[Check] = checks![
     "snes_cubic_reaction_diffusion" => snes_known_solution,
     "snes_callback_error_is_err" => snes_callback_error,
     "snes_kept_factorization_same_solution" => snes_kept_factorization,
+    "snes_stops_on_the_roundoff_floor_of_stiff_ties" => snes_roundoff_floor,
     "pep_damped_oscillators" => pep_closed_form,
     "singular_solve_is_err_on_every_rank" => singular_solve,
     "entry_outside_pattern_is_err" => outside_pattern,
@@ -637,6 +638,74 @@ fn snes_kept_factorization(rt: &Runtime) -> Result<Vec<f64>, String> {
         "kept factorisation: {lu_kept} LU in {its_kept} steps (fresh: {lu_fresh} in {its_fresh})"
     );
     Ok(kept)
+}
+
+/// A chain of soft springs (the 1-D Laplacian, unit loads) whose node pairs (0, 1), (2, 3),
+/// ... are tied by springs `K_T` times stiffer: a reduced interface's stiff ties in
+/// miniature. The residual |K u - f| cannot be computed below about eps |K|_inf |u|_inf
+/// (~1e-6 here, 1e-7 of |F0|), above both the relative tolerance (1e-10 |F0|) and the
+/// relative floor (1e-8 |F0|): Newton lands there in one step and can only stagnate. With
+/// the floor on, that is convergence (`CONVERGED_ROUNDOFF_FLOOR`), and |F| is then within
+/// the evaluation bound, checked here by recomputing it; with the floor off, the same solve
+/// is a failure: the test sees the criterion at work.
+fn snes_roundoff_floor(rt: &Runtime) -> Result<Vec<f64>, String> {
+    const K_T: f64 = 2.3e7 * std::f64::consts::SQRT_2;
+    let comm = rt.world();
+    let n = 40;
+    let (lo, hi) = split(n, comm);
+    let row = move |i: usize| {
+        let mut r = laplacian_1d(i, n);
+        let partner = i ^ 1;
+        r.push((i, K_T));
+        r.push((partner, -K_T));
+        r
+    };
+    let solve = |floor: f64| -> Result<(Vec<f64>, String), PetscError> {
+        let jac = matrix(comm, n, row).map_err(PetscError::Invalid)?;
+        let residual = Box::new(move |x: &Vector, f: &mut Vector| -> Result<(), String> {
+            let all = x.gather_all().map_err(e)?;
+            let mut out = f.write().map_err(e)?;
+            for (r, i) in (lo..hi).enumerate() {
+                out[r] = row(i).iter().map(|&(j, v)| v * all[j]).sum::<f64>() - 1.0;
+            }
+            Ok(())
+        });
+        let jacobian = Box::new(
+            |_x: &Vector, _j: &mut Matrix| -> Result<JacobianChange, String> {
+                Ok(JacobianChange::Unknown)
+            },
+        );
+        let options = NewtonOptions {
+            roundoff_floor: floor,
+            ..Default::default()
+        };
+        let mut snes = NonlinearSolver::new(comm, residual, jacobian, jac, &options)?;
+        let mut x = Vector::new(comm, hi - lo)?;
+        let report = snes.solve(&mut x)?;
+        Ok((x.gather_all()?, report.reason))
+    };
+    let (u, reason) = solve(1e-8).map_err(e)?;
+    if reason != "CONVERGED_ROUNDOFF_FLOOR" {
+        return Err(format!("stopped by {reason}, not on the round-off floor"));
+    }
+    let k_inf = 4.0 + 2.0 * K_T;
+    let u_inf = u.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let bound = f64::EPSILON * k_inf * u_inf * (n as f64).sqrt();
+    let f = (0..n)
+        .map(|i| (row(i).iter().map(|&(j, v)| v * u[j]).sum::<f64>() - 1.0).powi(2))
+        .sum::<f64>()
+        .sqrt();
+    if !(f <= bound && bound < 1e-5 * (n as f64).sqrt()) {
+        return Err(format!(
+            "|F| = {f:e} against the evaluation bound {bound:e}"
+        ));
+    }
+    match solve(0.0) {
+        Ok((_, reason)) => Err(format!(
+            "without the floor the solve stopped by {reason}: the case does not reach the floor"
+        )),
+        Err(_) => Ok(vec![1.0]),
+    }
 }
 
 /// A residual or Jacobian closure that fails must surface as an Err carrying its message on

@@ -44,6 +44,22 @@ struct Callbacks<'f, 'rt> {
     first_norm: f64,
     last_norm: f64,
     floored: bool,
+    /// The last Jacobian's infinity norm (0 before the first), and the residual's
+    /// evaluation floor the convergence test last computed from it
+    /// ([`evaluation_floor`]).
+    jacobian_norm: f64,
+    evaluation_floor: f64,
+}
+
+/// What round-off alone leaves in |F| = |K u - f| at `u`: each entry is a sum of products
+/// `K_ij u_j`, computed with an error up to about eps |K|_inf |u|_inf, and the 2-norm over
+/// `n` entries is at most sqrt(n) times the largest. A residual below this cannot be told
+/// from zero in floating point (the normwise backward error of the evaluation, Rigal and
+/// Gaches): stiff ties (a reduced interface's springs of 1e13-1e14 N/m on the kept pairs of a
+/// floating caliper) put |F| there, 1e-8 of a warm start's first residual, where a relative
+/// floor alone kept Newton iterating until its line search failed.
+fn evaluation_floor(jacobian_inf_norm: f64, x_inf_norm: f64, n: usize) -> f64 {
+    f64::EPSILON * jacobian_inf_norm * x_inf_norm * (n as f64).sqrt()
 }
 
 /// Newton settings. PETSc options (`-snes_*`) given at start-up override them.
@@ -64,11 +80,12 @@ pub struct NewtonOptions {
     /// about rank + 1 iterations, each a pair of triangular solves, far cheaper than a new
     /// factorisation. 0 factorises every Jacobian.
     pub keep_factorization_rank: usize,
-    /// Once |F| <= this * |F0|, an iteration that does not halve |F| (Newton is quadratic
-    /// there unless round-off stops it), or a line search that finds no descent, is taken
-    /// as convergence to the residual's round-off floor (reason `CONVERGED_ROUNDOFF_FLOOR`)
-    /// rather than more iterations or a failure. 0: never. See the caller's reason for its
-    /// value.
+    /// Once |F| <= this * |F0|, or below what round-off alone leaves in |F| at the current
+    /// iterate ([`evaluation_floor`]), an iteration that does not halve |F| (Newton is
+    /// quadratic there unless round-off stops it), or a line search that finds no descent,
+    /// is taken as convergence to the residual's round-off floor (reason
+    /// `CONVERGED_ROUNDOFF_FLOOR`) rather than more iterations or a failure. 0: never. See
+    /// the caller's reason for its value.
     pub roundoff_floor: f64,
 }
 
@@ -160,6 +177,15 @@ unsafe extern "C" fn jacobian_trampoline(
     if code != 0 {
         return code;
     }
+    if callbacks.floor > 0.0 {
+        let mut norm = 0.0;
+        // SAFETY: the live matrix PETSc handed us, assembled by the callback.
+        let code = unsafe { sys::MatNorm(j.raw, sys::NORM_INFINITY, &mut norm) };
+        if code != 0 {
+            return code;
+        }
+        callbacks.jacobian_norm = norm;
+    }
     // SNES reads its preconditioner lag right after this callback: -2 refactorises once,
     // -1 keeps the factorisation (PETSc's SNESComputeJacobian).
     let keep = match (change, callbacks.since_factorised) {
@@ -211,11 +237,30 @@ unsafe extern "C" fn convergence_trampoline(
         return code;
     }
     let callbacks = unsafe { &mut *(ctx as *mut Callbacks) };
+    if callbacks.jacobian_norm > 0.0 {
+        let (mut x, mut x_inf, mut n) = (std::ptr::null_mut(), 0.0, 0);
+        // SAFETY: live SNES; out-pointers to locals; the solution vector is PETSc's.
+        let code = unsafe {
+            let mut code = sys::SNESGetSolution(snes, &mut x);
+            if code == 0 {
+                code = sys::VecNorm(x, sys::NORM_INFINITY, &mut x_inf);
+            }
+            if code == 0 {
+                code = sys::VecGetSize(x, &mut n);
+            }
+            code
+        };
+        if code != 0 {
+            return code;
+        }
+        callbacks.evaluation_floor =
+            evaluation_floor(callbacks.jacobian_norm, x_inf, n.max(0) as usize);
+    }
     if it == 0 {
         callbacks.first_norm = fnorm;
         callbacks.floored = false;
     } else if unsafe { *reason } == sys::SNES_CONVERGED_ITERATING
-        && fnorm <= callbacks.floor * callbacks.first_norm
+        && (fnorm <= callbacks.floor * callbacks.first_norm || fnorm <= callbacks.evaluation_floor)
         && fnorm > 0.5 * callbacks.last_norm
     {
         callbacks.floored = true;
@@ -254,6 +299,8 @@ impl<'f, 'rt> NonlinearSolver<'f, 'rt> {
                 first_norm: 0.0,
                 last_norm: 0.0,
                 floored: false,
+                jacobian_norm: 0.0,
+                evaluation_floor: 0.0,
             }),
             jacobian,
             history: vec![0.0; options.max_iterations + 2],
@@ -387,7 +434,9 @@ impl<'f, 'rt> NonlinearSolver<'f, 'rt> {
             .to_string_lossy()
             .into_owned();
         let floor = match (history.first(), history.last()) {
-            (Some(&first), Some(&last)) => last <= self.roundoff_floor * first,
+            (Some(&first), Some(&last)) => {
+                last <= self.roundoff_floor * first || last <= self.callbacks.evaluation_floor
+            }
             _ => false,
         };
         if self.callbacks.floored || (reason == sys::SNES_DIVERGED_LINE_SEARCH && floor) {

@@ -80,6 +80,18 @@ pub enum ReduceError {
     /// A radius of influence that is not finite and positive.
     #[error("reduced contact node {reduced_node}: radius of influence R = {radius} must be finite and > 0")]
     InvalidRadius { reduced_node: usize, radius: f64 },
+    /// A study or flag names a contact pair the model does not have.
+    #[error("{key} names the pair '{name}', which the model does not have; its pairs are: {}", known.join(", "))]
+    UnknownPair {
+        key: String,
+        name: String,
+        known: Vec<String>,
+    },
+    /// `[reduction.pairs."NAME"]` gives a grid to a pair that is not reduced as a kept pair.
+    #[error(
+        "reduction.pairs.\"{pair}\": a grid for a pair that is not reduced as a kept pair: {why}"
+    )]
+    PairGridUnused { pair: String, why: &'static str },
     /// A reduction was asked for but no contact pair is swept.
     #[error(
         "a reduced interface replaces the swept (disc/pad) pairs, and no pair has sweep = true"

@@ -29,6 +29,7 @@
 
 use super::coupling::{couple_grid, couple_points, couple_shares, DistributingCoupling, Weighting};
 use super::grid::{isometric_grid, ContactGrid, GridSize};
+use super::pairs::ReducePairs;
 use super::radius::{grid_optimal, paper_radius};
 use super::tilt;
 use super::ReduceError;
@@ -36,9 +37,19 @@ use crate::contact::project::SurfaceSearch;
 use crate::contact::{self, ContactPoint};
 use crate::fem::springs::CouplingSpring;
 use crate::model::Model;
+use std::collections::BTreeMap;
 
 /// k_s = this times the contact stiffness k_n A_k of the node it ties (see the module doc).
 pub const DEFAULT_SPRING_FACTOR: f64 = 1e3;
+
+/// A kept pair's k_s: this times its contact stiffness k_n A_k. A kept pair's penalty is
+/// 10 E / h of its stiffer body (steel on steel at the caliper's pairs, 50 times the disc/pad
+/// pairs' on tiny-caliper), so [`DEFAULT_SPRING_FACTOR`] put its ties at 6e13-9e13 N/m: the
+/// CEA's eigenpairs there had relative residuals of 2.6e-6, above its 1e-6 bound, at mu 0.6.
+/// Measured on tiny-caliper with every pair reduced (mu 0.3, 40 modes to 6 kHz): 100 moves
+/// the eigenvalues by at most 6.4e-5 from 1000, and 10 by 6.9e-4 (the ties' compliance in
+/// series, falling as 1/factor): at 100 they transmit as rigidly as the reduction needs.
+pub const KEPT_SPRING_FACTOR: f64 = 1e2;
 
 /// Gaps below this fraction of the disc's face size are round-off (see [`reduce_interface`]).
 const TOUCHING: f64 = 1e-9;
@@ -146,6 +157,10 @@ pub struct InterfaceSettings {
     /// pair's law admits one (unilateral penalty with steady sliding), point contacts
     /// otherwise (see [`InterfaceSettings::resolved`]).
     pub tilt: Option<bool>,
+    /// Which pairs are reduced besides the swept ones ([`super::pairs`]).
+    pub reduce_pairs: ReducePairs,
+    /// A reduced kept pair's own grid, by pair name (default: the swept pads' grid side).
+    pub pair_grids: BTreeMap<String, GridSize>,
 }
 
 impl Default for InterfaceSettings {
@@ -160,6 +175,8 @@ impl Default for InterfaceSettings {
             disc_coupling: DiscCoupling::Auto,
             area_weighting: false,
             tilt: None,
+            reduce_pairs: ReducePairs::Swept,
+            pair_grids: BTreeMap::new(),
         }
     }
 }
@@ -187,6 +204,9 @@ pub struct ReducedPad {
     /// Model node indices of each reduced contact node's tilt nodes (pad side, disc side;
     /// [`super::tilt`]), in the grid's order; empty without patch laws.
     pub tilt_nodes: Vec<[usize; 2]>,
+    /// Whether the pair is swept (a disc/pad interface, the super-elements' boundary) or a
+    /// kept pair reduced too ([`super::pairs`]).
+    pub swept: bool,
 }
 
 /// A reduced-interface model and what was reduced.
@@ -208,6 +228,11 @@ impl ReducedInterface {
             .cloned()
             .chain(self.pads.iter().map(|p| {
                 let ks = p.spring_stiffness.iter().fold(0.0, |a: f64, &b| a.max(b));
+                let kept = if p.swept {
+                    ""
+                } else {
+                    " (kept pair, point contacts)"
+                };
                 let patch = if p.tilt_nodes.is_empty() {
                     ""
                 } else {
@@ -219,7 +244,7 @@ impl ReducedInterface {
                     _ => "radius of influence",
                 };
                 format!(
-                    "{}: {}; {radius} {:.4e} ({:.3} h), tie springs up to {:.3e} N/m{patch}",
+                    "{}{kept}: {}; {radius} {:.4e} ({:.3} h), tie springs up to {:.3e} N/m{patch}",
                     p.pair,
                     p.grid.summary(),
                     p.radius,
@@ -523,14 +548,26 @@ pub fn reduce_interface(
         });
     }
     let mut reduced = model.clone();
-    let mut pads = Vec::new();
+    let mut pads: Vec<ReducedPad> = Vec::new();
     let swept: Vec<usize> = (0..model.pairs.len()).filter(|&i| model.swept[i]).collect();
     if swept.is_empty() {
         return Err(ReduceError::NothingToReduce);
     }
-    let (settings, choice) = settings.resolved_with_reason(model, &swept)?;
-    let settings = &settings;
-    for i in swept {
+    let (resolved, choice) = settings.resolved_with_reason(model, &swept)?;
+    // The swept pairs first: a kept pair's default grid side is theirs.
+    let order: Vec<usize> = swept
+        .iter()
+        .copied()
+        .chain(kept_pairs(model, &resolved)?)
+        .collect();
+    for i in order {
+        let kept;
+        let settings = if model.swept[i] {
+            &resolved
+        } else {
+            kept = kept_settings(model, i, &resolved, pads[0].grid.spacing)?;
+            &kept
+        };
         let pair = &model.pairs[i];
         let name = pair.settings.name.clone();
         if settings.patch_laws() {
@@ -593,6 +630,7 @@ pub fn reduce_interface(
             disc_ties: Vec::new(),
             spring_stiffness: Vec::new(),
             tilt_nodes: Vec::new(),
+            swept: model.swept[i],
         };
         let hits = grid
             .nodes
@@ -716,9 +754,96 @@ pub fn reduce_interface(
     Ok(ReducedInterface {
         model: reduced,
         pads,
-        settings: settings.clone(),
+        settings: resolved,
         choice,
     })
+}
+
+/// The kept (not swept) pairs `settings.reduce_pairs` asks to reduce, in the model's order;
+/// a name in it or in `settings.pair_grids` that is no pair of the model, a grid given to a
+/// swept pair or to a pair that is not reduced, and a named pair that is not node-to-surface
+/// are refused by name. `"all"` takes every node-to-surface pair (a deck's node-to-node pair
+/// is already point contacts).
+fn kept_pairs(model: &Model, settings: &InterfaceSettings) -> Result<Vec<usize>, ReduceError> {
+    let names: Vec<&str> = model
+        .pairs
+        .iter()
+        .map(|p| p.settings.name.as_str())
+        .collect();
+    let unknown = |key: &str, name: &str| ReduceError::UnknownPair {
+        key: key.to_string(),
+        name: name.to_string(),
+        known: names.iter().map(|n| n.to_string()).collect(),
+    };
+    if let Some(name) = settings.reduce_pairs.unknown(&names).first() {
+        return Err(unknown("reduction.reduce_pairs", name));
+    }
+    let node_to_surface = |i: usize| matches!(model.pair_surfaces.get(i), Some(Some(_)));
+    let mut kept = Vec::new();
+    for (i, name) in names.iter().enumerate() {
+        if model.swept[i] || !settings.reduce_pairs.reduces(name) {
+            continue;
+        }
+        if node_to_surface(i) {
+            kept.push(i);
+        } else if settings.reduce_pairs != ReducePairs::All {
+            return Err(ReduceError::NotNodeToSurface {
+                pair: name.to_string(),
+            });
+        }
+    }
+    for name in settings.pair_grids.keys() {
+        let Some(i) = names.iter().position(|n| n == name) else {
+            return Err(unknown("reduction.pairs", name));
+        };
+        if !kept.contains(&i) {
+            return Err(ReduceError::PairGridUnused {
+                pair: name.clone(),
+                why: if model.swept[i] {
+                    "it is swept: the swept pairs take reduction.contact_nodes_per_pad or \
+                     reduction.spacing"
+                } else {
+                    "reduction.reduce_pairs does not reduce it"
+                },
+            });
+        }
+    }
+    Ok(kept)
+}
+
+/// How a kept pair is reduced: on its own grid (by default the swept pads' grid side `h`,
+/// one resolution for the whole interface), with point contacts (a kept pair's Coulomb
+/// stick and slip admits no patch law), ties of [`KEPT_SPRING_FACTOR`] unless the study
+/// sets their stiffness, and the swept pairs' couplings where its face holds
+/// them (share couplings need three face nodes off one line per share; the paper's
+/// distributing couplings, the master tied at one point, otherwise).
+fn kept_settings(
+    model: &Model,
+    pair: usize,
+    swept: &InterfaceSettings,
+    h: f64,
+) -> Result<InterfaceSettings, ReduceError> {
+    let name = &model.pairs[pair].settings.name;
+    let size = swept
+        .pair_grids
+        .get(name)
+        .copied()
+        .unwrap_or(GridSize::Spacing(h));
+    let mut s = InterfaceSettings {
+        size,
+        tilt: Some(false),
+        ..swept.clone()
+    };
+    if s.spring_stiffness.is_none() {
+        s.spring_factor *= KEPT_SPRING_FACTOR / DEFAULT_SPRING_FACTOR;
+    }
+    if s.pad_coupling == PadCoupling::Share && !shares_fit(model, &[pair], size)? {
+        s.pad_coupling = PadCoupling::Distributing;
+        if s.disc_coupling == DiscCoupling::Share {
+            s.disc_coupling = DiscCoupling::ShapeFunctions;
+        }
+    }
+    Ok(s)
 }
 
 #[cfg(test)]
@@ -908,6 +1033,114 @@ mod tests {
             "{err}"
         );
         assert!(ties(pad.radius).is_ok());
+    }
+
+    /// Kept pairs reduced too (issue 32): every pair of the floating caliper, or the named
+    /// ones, each a node-to-node pair on its own grid (the swept pads' side h by default, or
+    /// its own), with point contacts and ties of KEPT_SPRING_FACTOR k_n A_k; the swept
+    /// pairs as without them; names and grids that do not fit refused by name.
+    #[test]
+    fn kept_pairs_are_reduced_on_their_own_grids_where_asked() {
+        let model = Model::from_spec(&Study::builtin("tiny-caliper").model_spec()).unwrap();
+        let with = |pairs: ReducePairs, grids: &[(&str, usize)]| InterfaceSettings {
+            size: GridSize::Count(22),
+            reduce_pairs: pairs,
+            pair_grids: grids
+                .iter()
+                .map(|&(n, c)| (n.to_string(), GridSize::Count(c)))
+                .collect(),
+            ..Default::default()
+        };
+        let swept_only = reduce_interface(&model, &with(ReducePairs::Swept, &[])).unwrap();
+        assert_eq!(swept_only.pads.len(), 2);
+        let all = reduce_interface(&model, &with(ReducePairs::All, &[("piston/pad", 12)])).unwrap();
+        assert_eq!(all.pads.len(), model.pairs.len());
+        let h = all.pads[0].grid.spacing;
+        for pad in &all.pads {
+            let i = model
+                .pairs
+                .iter()
+                .position(|p| p.settings.name == pad.pair)
+                .unwrap();
+            let pair = &all.model.pairs[i];
+            assert_eq!(pad.swept, model.swept[i], "{}", pad.pair);
+            assert!(
+                all.model.pair_surfaces[i].is_none(),
+                "{} still node-to-surface",
+                pad.pair
+            );
+            assert_eq!(pair.points.len(), pad.grid.count());
+            // Every coupling transmits a rigid translation: its weights add up to 1.
+            for c in &pad.couplings {
+                let sum: f64 = c.nodes.iter().map(|n| n.weight).sum();
+                assert!(
+                    (sum - 1.0).abs() < 1e-12,
+                    "{}: weights add up to {sum}",
+                    pad.pair
+                );
+            }
+            if pad.swept {
+                // The swept pads as without the kept pairs: same grid, same ties.
+                let alone = swept_only.pads.iter().find(|p| p.pair == pad.pair).unwrap();
+                assert_eq!(pad.grid.count(), alone.grid.count());
+                assert_eq!(pad.spring_stiffness, alone.spring_stiffness);
+                continue;
+            }
+            assert!(
+                pad.tilt_nodes.is_empty(),
+                "{}: a kept pair has point contacts",
+                pad.pair
+            );
+            if pad.pair == "piston/pad" {
+                assert_eq!(pad.grid.count(), 12);
+            } else {
+                assert!((pad.grid.spacing - h).abs() <= 1e-12 * h, "{}", pad.pair);
+            }
+            let penalty = model.pairs[i].penalty;
+            for (k, node) in pad.grid.nodes.iter().enumerate() {
+                let expected = KEPT_SPRING_FACTOR * penalty * node.area;
+                assert!((pad.spring_stiffness[k] - expected).abs() <= 1e-12 * expected);
+            }
+        }
+        // Named: that pair alone besides the swept ones.
+        let named = ReducePairs::Named(vec!["caliper/pad".into()]);
+        let one = reduce_interface(&model, &with(named, &[])).unwrap();
+        let kept: Vec<&str> = one
+            .pads
+            .iter()
+            .filter(|p| !p.swept)
+            .map(|p| p.pair.as_str())
+            .collect();
+        assert_eq!(kept, ["caliper/pad"]);
+        // Refusals, by name.
+        let e = reduce_interface(
+            &model,
+            &with(ReducePairs::Named(vec!["calliper/pad".into()]), &[]),
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(
+            e.contains("'calliper/pad'") && e.contains("caliper/pad,"),
+            "{e}"
+        );
+        let e = reduce_interface(&model, &with(ReducePairs::All, &[("disc/pad inboard", 6)]))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("disc/pad inboard") && e.contains("swept"), "{e}");
+        let e = reduce_interface(&model, &with(ReducePairs::Swept, &[("caliper/pad", 6)]))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("caliper/pad") && e.contains("does not reduce"),
+            "{e}"
+        );
+        let e = reduce_interface(&model, &with(ReducePairs::All, &[("nothing", 6)]))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("reduction.pairs") && e.contains("'nothing'"),
+            "{e}"
+        );
     }
 
     /// The default interface is squeal's (share couplings on both sides, patch laws) where

@@ -9,6 +9,8 @@
 //!   the radius of influence ([`distributing_coupling`], [`Weighting`]), forces only.
 //! - [`interface`]: the reduced-interface model, the full model with its swept pairs
 //!   replaced by node-to-node contacts between reduced contact nodes ([`reduce_interface`]).
+//! - [`pairs`]: which pairs are reduced (the swept ones, all, or named kept pairs too) and
+//!   each kept pair's grid.
 //! - [`superelement`]: the Craig-Bampton super-element as plain data (the contract with the
 //!   dense assembly); [`craig_bampton`] builds one from a reduced-interface model at a static
 //!   equilibrium ([`build_superelement`], [`build_with_basis`] to keep T for expansions).
@@ -30,6 +32,7 @@ pub mod craig_bampton;
 mod error;
 pub mod grid;
 pub mod interface;
+pub mod pairs;
 pub mod radius;
 pub mod strategy;
 pub mod superelement;
@@ -50,5 +53,6 @@ pub use interface::{
     reduce_interface, DiscCoupling, InterfaceSettings, PadCoupling, RadiusChoice, ReducedInterface,
     ReducedPad,
 };
+pub use pairs::{PairGrid, ReducePairs};
 pub use radius::{radius_table, table_text, DegreeRadius, RadiusTable};
 pub use strategy::{decide, Decision, Step, Strategy};

@@ -2,6 +2,7 @@
 //! supports, springs, links, loads, contact pairs, band, friction sweep, output — validated up
 //! front with errors that name the file and the key.
 
+pub use super::reduction_spec::ReductionSpec;
 use crate::analysis::cea::RayleighDamping;
 use crate::contact::SlidingDirection;
 use crate::mesh::brake::{self, BrakeParams, Layout};
@@ -10,9 +11,7 @@ pub use crate::model::spec::{
     ContactSpec, FrictionLawName, LinkSpec, MaterialSpec, MeshSpec, PressureSpec, SpringDirection,
     SpringSpec, SupportSpec,
 };
-use crate::reduce::{
-    DiscCoupling, GridSize, InterfaceSettings, PadCoupling, RadiusChoice, Strategy, Weighting,
-};
+use crate::reduce::Strategy;
 use std::path::{Path, PathBuf};
 
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -107,69 +106,6 @@ fn default_window() -> usize {
     30
 }
 
-/// The reduced contact interface (METHOD.md section 5): reduced contact nodes per pad (or
-/// the grid side), the distributing coupling's weighting and radius, the tie springs.
-#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct ReductionSpec {
-    /// Reduced contact nodes per pad (the paper's 6, 22, 52, 106).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub contact_nodes_per_pad: Option<usize>,
-    /// Or the grid side h (mesh units).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub spacing: Option<f64>,
-    /// "uniform", "linear", "quadratic" or "cubic".
-    #[serde(default = "cubic")]
-    pub weighting: Weighting,
-    /// "grid-optimal", "paper" or a radius in mesh units.
-    #[serde(default = "grid_optimal")]
-    pub radius: RadiusChoice,
-    /// Stiffness of each tie spring (N/m); default 1000 times the node's contact stiffness.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub spring_stiffness: Option<f64>,
-    /// How each reduced contact node is tied to the pad face: "share" (its share's nodes by
-    /// tributary area), "distributing" (the paper's radius of influence) or "auto" (default:
-    /// share where every share holds enough face nodes). Always written: its default was
-    /// "distributing" before 2026-11-28, so a study without it keys its stages apart.
-    #[serde(default)]
-    pub pad_coupling: PadCoupling,
-    /// How each disc node is tied to the disc face: "shape-functions", "distributing" (the
-    /// pad side's weighting and radius), "share" (the disc surface under the node's share)
-    /// or "auto" (default: share with share pad couplings, shape functions otherwise).
-    #[serde(default)]
-    pub disc_coupling: DiscCoupling,
-    /// Weigh each coupled node by its tributary area too (Abaqus 6.10's mesh-size weighting).
-    #[serde(default)]
-    pub area_weighting: bool,
-    /// Each reduced contact carries its patch law: the full model's penalty integrated over
-    /// its share of the pad face, tilt included (squeal's addition to the paper's point
-    /// contacts, [`crate::reduce::tilt`]). Super-elements then carry the same law, with no
-    /// cubic k_linear or k_cubic. Absent: patch laws with share couplings where the pad
-    /// faces hold them and the swept pairs' laws admit them, the paper's point contacts
-    /// otherwise, and whenever k_linear or k_cubic asks for the cubic law.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub tilt: Option<bool>,
-    /// Craig-Bampton super-elements on the reduced interface, assembled with node-to-node
-    /// cubic contact: "single", "per-friction" or "adaptive". Absent: the reduced-interface
-    /// model itself is swept.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub superelements: Option<Strategy>,
-    /// mu_SE: where the single strategy makes its super-element (default 0.5, the paper's).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub superelement_friction: Option<f64>,
-    /// Fixed-interface modes kept up to this frequency (Hz); default twice the band's top
-    /// (the paper kept 0-12 kHz for a 0-6 kHz study).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub cutoff_frequency_hz: Option<f64>,
-    /// k_l of the cubic contact law (N/m); default each pair's penalty times its area, the
-    /// reduced-interface model's own stiffness.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub k_linear: Option<f64>,
-    /// k_nl of the cubic contact law (N/m^3); default 0 (linear).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub k_cubic: Option<f64>,
-}
-
 /// The models `squeal study` compares with the full one (the paper's sections 4.2-4.4): a
 /// reduced-interface model per grid size, and super-elements built on one of them with each
 /// strategy. The other settings of the reduced interface and of the super-elements
@@ -261,59 +197,6 @@ impl ComparisonSpec {
             )),
             _ => Ok(()),
         }
-    }
-}
-
-fn cubic() -> Weighting {
-    Weighting::Cubic
-}
-fn grid_optimal() -> RadiusChoice {
-    RadiusChoice::GridOptimal
-}
-
-impl ReductionSpec {
-    /// A reduction to `count` nodes per pad with the defaults.
-    pub fn with_count(count: usize) -> ReductionSpec {
-        ReductionSpec {
-            contact_nodes_per_pad: Some(count),
-            spacing: None,
-            weighting: cubic(),
-            radius: grid_optimal(),
-            spring_stiffness: None,
-            pad_coupling: PadCoupling::default(),
-            disc_coupling: DiscCoupling::default(),
-            area_weighting: false,
-            tilt: None,
-            superelements: None,
-            superelement_friction: None,
-            cutoff_frequency_hz: None,
-            k_linear: None,
-            k_cubic: None,
-        }
-    }
-
-    /// The settings of [`crate::reduce::reduce_interface`] (checked by [`Study::check`]).
-    pub fn settings(&self) -> InterfaceSettings {
-        InterfaceSettings {
-            size: match (self.contact_nodes_per_pad, self.spacing) {
-                (_, Some(h)) => GridSize::Spacing(h),
-                (Some(n), None) => GridSize::Count(n),
-                (None, None) => GridSize::Count(52),
-            },
-            weighting: self.weighting,
-            radius: self.radius,
-            spring_stiffness: self.spring_stiffness,
-            spring_factor: 1.0,
-            pad_coupling: self.pad_coupling,
-            disc_coupling: self.disc_coupling,
-            area_weighting: self.area_weighting,
-            tilt: self.tilt.or(self.cubic_law().then_some(false)),
-        }
-    }
-
-    /// Whether k_linear or k_cubic asks for the paper's cubic law between point contacts.
-    pub fn cubic_law(&self) -> bool {
-        self.k_linear.is_some() || self.k_cubic.is_some_and(|k| k != 0.0)
     }
 }
 
@@ -696,120 +579,15 @@ impl Study {
             c.check(bad)?;
         }
         if let Some(r) = &self.reduction {
-            match (r.contact_nodes_per_pad, r.spacing) {
-                (Some(_), Some(_)) => {
-                    return Err(bad(
-                        "reduction".into(),
-                        "give either contact_nodes_per_pad or spacing, not both".into(),
-                    ))
-                }
-                (Some(0), None) => {
-                    return Err(bad(
-                        "reduction.contact_nodes_per_pad".into(),
-                        "must be at least 1".into(),
-                    ))
-                }
-                (None, Some(h)) if !(h > 0.0 && h.is_finite()) => {
-                    return Err(bad(
-                        "reduction.spacing".into(),
-                        format!("must be finite and > 0, got {h}"),
-                    ))
-                }
-                _ => {}
-            }
-            if let RadiusChoice::Length(radius) = r.radius {
-                if !(radius > 0.0 && radius.is_finite()) {
-                    return Err(bad(
-                        "reduction.radius".into(),
-                        format!(
-                            "must be \"grid-optimal\", \"paper\" or a length > 0, got {radius}"
-                        ),
-                    ));
-                }
-            }
-            if let Some(k) = r.spring_stiffness {
-                if !(k > 0.0 && k.is_finite()) {
-                    return Err(bad(
-                        "reduction.spring_stiffness".into(),
-                        format!("must be finite and > 0, got {k}"),
-                    ));
-                }
-            }
-            let positive = |key: &str, value: Option<f64>, zero_allowed: bool| match value {
-                Some(v) if !(v.is_finite() && (v > 0.0 || (zero_allowed && v == 0.0))) => Err(bad(
-                    format!("reduction.{key}"),
-                    format!(
-                        "must be finite and {}, got {v}",
-                        if zero_allowed { ">= 0" } else { "> 0" }
-                    ),
-                )),
-                _ => Ok(()),
+            let context = super::reduction_spec::StudyContext {
+                max_frequency_hz: self.analysis.max_frequency_hz,
+                compared_superelements: self
+                    .comparison
+                    .as_ref()
+                    .is_some_and(|c| !c.superelements.is_empty()),
+                any_swept: self.contacts.iter().any(|c| c.sweep),
             };
-            positive("superelement_friction", r.superelement_friction, true)?;
-            positive("cutoff_frequency_hz", r.cutoff_frequency_hz, false)?;
-            // Below the band, the super-element keeps no fixed-interface mode of it: the
-            // constraint modes alone, every mode of the band stiffened.
-            if let Some(c) = r
-                .cutoff_frequency_hz
-                .filter(|&c| c < self.analysis.max_frequency_hz)
-            {
-                return Err(bad(
-                    "reduction.cutoff_frequency_hz".into(),
-                    format!(
-                        "{c} Hz is below the band's top, analysis.max_frequency_hz = {} Hz: the \
-                         super-element's fixed-interface modes must reach past the band (the \
-                         default is twice its top)",
-                        self.analysis.max_frequency_hz
-                    ),
-                ));
-            }
-            positive("k_linear", r.k_linear, false)?;
-            positive("k_cubic", r.k_cubic, true)?;
-            let compared_superelements = self
-                .comparison
-                .as_ref()
-                .is_some_and(|c| !c.superelements.is_empty());
-            if r.tilt == Some(true)
-                && r.cubic_law()
-                && (r.superelements.is_some() || compared_superelements)
-            {
-                return Err(bad(
-                    "reduction.tilt".into(),
-                    "a super-element's patch laws are the reduced-interface model's penalty \
-                     over each share: reduction.k_linear and reduction.k_cubic are a point \
-                     contact's cubic law and cannot be set with them (leave them out, or \
-                     leave reduction.tilt out)"
-                        .into(),
-                ));
-            }
-            // `squeal study` sweeps the strategies of [comparison] with these settings.
-            let compared = self
-                .comparison
-                .as_ref()
-                .is_some_and(|c| !c.superelements.is_empty());
-            if r.superelements.is_none() && !compared {
-                let set: Vec<&str> = [
-                    ("superelement_friction", r.superelement_friction.is_some()),
-                    ("cutoff_frequency_hz", r.cutoff_frequency_hz.is_some()),
-                    ("k_linear", r.k_linear.is_some()),
-                    ("k_cubic", r.k_cubic.is_some()),
-                ]
-                .into_iter()
-                .filter_map(|(k, on)| on.then_some(k))
-                .collect();
-                if let Some(key) = set.first() {
-                    return Err(bad(
-                        format!("reduction.{key}"),
-                        "is a super-element setting: give reduction.superelements = \"single\", \"per-friction\" or \"adaptive\" too (or comparison.superelements for squeal study)".into(),
-                    ));
-                }
-            }
-            if !self.contacts.iter().any(|c| c.sweep) {
-                return Err(bad(
-                    "reduction".into(),
-                    "a reduced interface replaces the swept pairs, and no contacts[..] has sweep = true".into(),
-                ));
-            }
+            r.check(context, bad)?;
         }
         let a = &self.analysis;
         if let Some(why) = crate::analysis::cea::band_problem(a.max_frequency_hz) {
@@ -987,6 +765,7 @@ impl Study {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::reduce::{DiscCoupling, GridSize, PadCoupling, ReducePairs};
 
     fn write(name: &str, text: &str) -> PathBuf {
         let dir = std::env::temp_dir().join(format!("squeal-config-{}", std::process::id()));
@@ -1375,6 +1154,41 @@ mod tests {
         let e = Study::read(&p).unwrap_err().to_string();
         assert!(
             e.contains("pad.toml") && e.contains("pad_coupling") && e.contains("share"),
+            "{e}"
+        );
+    }
+
+    /// Kept pairs to reduce and their grids: read, written only when not the default,
+    /// handed to the interface, and a wrong grid refused naming the pair's key.
+    #[test]
+    fn reduced_kept_pairs_and_their_grids_read_and_are_checked() {
+        let r: ReductionSpec = toml::from_str("contact_nodes_per_pad = 6\n").unwrap();
+        assert!(r.settings().reduce_pairs.is_swept() && r.settings().pair_grids.is_empty());
+        let text = toml::to_string(&r).unwrap();
+        assert!(
+            !text.contains("reduce_pairs") && !text.contains("pairs"),
+            "{text}"
+        );
+        let r: ReductionSpec = toml::from_str(
+            "contact_nodes_per_pad = 6\nreduce_pairs = \"all\"\n\
+             [pairs.\"piston/pad\"]\ncontact_nodes = 12\n",
+        )
+        .unwrap();
+        let s = r.settings();
+        assert_eq!(s.reduce_pairs, ReducePairs::All);
+        assert_eq!(s.pair_grids["piston/pad"], GridSize::Count(12));
+        let again: ReductionSpec = toml::from_str(&toml::to_string(&r).unwrap()).unwrap();
+        assert_eq!(again, r);
+        let p = write(
+            "pairs.toml",
+            "[reduction]\ncontact_nodes_per_pad = 6\nreduce_pairs = \"all\"\n\
+             [reduction.pairs.\"piston/pad\"]\ncontact_nodes = 12\nspacing = 0.01\n",
+        );
+        let e = Study::read(&p).unwrap_err().to_string();
+        assert!(
+            e.contains("pairs.toml")
+                && e.contains("reduction.pairs.\"piston/pad\"")
+                && e.contains("not both"),
             "{e}"
         );
     }

@@ -18,6 +18,7 @@ pub mod pipeline;
 pub mod plot;
 pub mod progress;
 pub mod radius;
+pub mod reduction_spec;
 pub mod report;
 pub mod run;
 pub mod staging;

@@ -695,7 +695,7 @@ fn spread_of(model: &Model, which: impl Fn(usize) -> bool) -> Vec<SweptSurface> 
 fn reduced_spread(reduced: &reduce::ReducedInterface) -> Vec<SweptSurface> {
     let model = &reduced.model;
     let mut spread = Vec::new();
-    for pad in &reduced.pads {
+    for pad in reduced.pads.iter().filter(|p| p.swept) {
         let Some(i) = model.pairs.iter().position(|p| p.settings.name == pad.pair) else {
             continue;
         };
