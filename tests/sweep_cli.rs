@@ -906,3 +906,81 @@ fn a_held_reduced_interface_model_has_no_rigid_modes() {
     }
     let _ = std::fs::remove_dir_all(&out);
 }
+
+/// Every pair of the floating caliper reduced (issue 32's first step): a full-size model like
+/// the others that sweeps past mu 0.6, where ties 1000 times the kept pairs' steel contact
+/// stiffness once stalled Newton on its round-off floor and left the CEA's residuals above
+/// its bound. Each kept pair is reduced to its grid (the model names the counts), its
+/// contact points are the reduced nodes, and each mode's flags are its real part's verdict.
+#[test]
+fn every_pair_reduced_is_a_model_that_sweeps_past_its_stiff_ties() {
+    let out = scratch("every-pair-reduced");
+    let dir = out.to_str().unwrap();
+    success(
+        2,
+        &[
+            "sweep",
+            "--preset",
+            "tiny-caliper",
+            "--contact-nodes-per-pad",
+            "22",
+            "--reduce-pairs",
+            "all",
+            "--friction",
+            "0.3,0.6",
+            "--fmax",
+            "3000",
+            "-o",
+            dir,
+            "-q",
+        ],
+    );
+    let sweep: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("sweep.json")).unwrap()).unwrap();
+    let source = sweep["model"]["source"].as_str().unwrap();
+    assert!(
+        source.contains("22 nodes + 22 nodes + 2 nodes + 19 nodes + 3 nodes"),
+        "{source}"
+    );
+    let points = sweep["points"].as_array().unwrap();
+    assert_eq!(points.len(), 2);
+    for point in points {
+        let modes = point["eigenvalues"].as_array().unwrap();
+        assert!(modes.len() >= 15, "{} modes", modes.len());
+        for m in modes {
+            let (f, re) = (
+                m["frequency_hz"].as_f64().unwrap(),
+                m["real_part"].as_f64().unwrap(),
+            );
+            assert_eq!(m["rigid_body"], false, "{f} Hz called rigid");
+            let lambda = Complex64::new(re, 2.0 * std::f64::consts::PI * f);
+            assert_eq!(
+                m["unstable"].as_bool().unwrap(),
+                squeal::analysis::cea::is_unstable(lambda, 1e-6),
+                "{f} Hz, real part {re}"
+            );
+        }
+    }
+    // Each pair's contact points are its reduced nodes, the kept ones' too.
+    let counts: Vec<(String, u64)> = points[1]["contact"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| {
+            (
+                c["name"].as_str().unwrap().to_string(),
+                c["points"].as_u64().unwrap(),
+            )
+        })
+        .collect();
+    let count = |name: &str| counts.iter().find(|(n, _)| n == name).map(|c| c.1);
+    assert_eq!(count("disc/pad inboard"), Some(22), "{counts:?}");
+    assert_eq!(count("piston/pad"), Some(2), "{counts:?}");
+    assert_eq!(count("caliper/pad"), Some(19), "{counts:?}");
+    assert_eq!(
+        count("bracket/pad outboard trailing"),
+        Some(3),
+        "{counts:?}"
+    );
+    let _ = std::fs::remove_dir_all(&out);
+}
