@@ -857,6 +857,24 @@ fn a_sweep_gives_the_same_numbers_on_one_to_four_ranks() {
 /// 519 Hz modes flagged rigid (medium-caliper with 52, 430-730 Hz, one pair growing at +150
 /// to +394 1/s and not flagged unstable). Every body of a sweep's model is held (the static
 /// proves it), so no mode is rigid, and each mode's flag is its real part's verdict.
+/// A held model's modes in sweep.json: none called rigid, each `unstable` flag the verdict
+/// of its own real part at the default threshold.
+fn held_modes_flagged_by_their_real_parts(modes: &[serde_json::Value]) {
+    for m in modes {
+        let (f, re) = (
+            m["frequency_hz"].as_f64().unwrap(),
+            m["real_part"].as_f64().unwrap(),
+        );
+        assert_eq!(m["rigid_body"], false, "{f} Hz called rigid");
+        let lambda = Complex64::new(re, 2.0 * std::f64::consts::PI * f);
+        assert_eq!(
+            m["unstable"].as_bool().unwrap(),
+            squeal::analysis::cea::is_unstable(lambda, 1e-6),
+            "{f} Hz, real part {re}"
+        );
+    }
+}
+
 #[test]
 fn a_held_reduced_interface_model_has_no_rigid_modes() {
     let out = scratch("held-reduced");
@@ -891,19 +909,7 @@ fn a_held_reduced_interface_model_has_no_rigid_modes() {
             "no mode near {f} Hz"
         );
     }
-    for m in modes {
-        let (f, re) = (
-            m["frequency_hz"].as_f64().unwrap(),
-            m["real_part"].as_f64().unwrap(),
-        );
-        assert_eq!(m["rigid_body"], false, "{f} Hz called rigid");
-        let lambda = Complex64::new(re, 2.0 * std::f64::consts::PI * f);
-        assert_eq!(
-            m["unstable"].as_bool().unwrap(),
-            squeal::analysis::cea::is_unstable(lambda, 1e-6),
-            "{f} Hz, real part {re}"
-        );
-    }
+    held_modes_flagged_by_their_real_parts(modes);
     let _ = std::fs::remove_dir_all(&out);
 }
 
@@ -947,19 +953,7 @@ fn every_pair_reduced_is_a_model_that_sweeps_past_its_stiff_ties() {
     for point in points {
         let modes = point["eigenvalues"].as_array().unwrap();
         assert!(modes.len() >= 15, "{} modes", modes.len());
-        for m in modes {
-            let (f, re) = (
-                m["frequency_hz"].as_f64().unwrap(),
-                m["real_part"].as_f64().unwrap(),
-            );
-            assert_eq!(m["rigid_body"], false, "{f} Hz called rigid");
-            let lambda = Complex64::new(re, 2.0 * std::f64::consts::PI * f);
-            assert_eq!(
-                m["unstable"].as_bool().unwrap(),
-                squeal::analysis::cea::is_unstable(lambda, 1e-6),
-                "{f} Hz, real part {re}"
-            );
-        }
+        held_modes_flagged_by_their_real_parts(modes);
     }
     // Each pair's contact points are its reduced nodes, the kept ones' too.
     let counts: Vec<(String, u64)> = points[1]["contact"]
