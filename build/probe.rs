@@ -1,6 +1,6 @@
 //! The pure logic of the build script: where PETSc, SLEPc and MPI are, and whether the
 //! installed PETSc has the ABI the Rust side assumes. No I/O other than reading files and
-//! running the commands it is handed, so `tests/build_probe.rs` can unit-test it.
+//! running the commands it is handed, so `tests/program/build_probe.rs` can unit-test it.
 
 use std::path::{Path, PathBuf};
 

@@ -7,7 +7,7 @@
 //! factorisation's backward error eps |K| moves an eigenvalue by about eps lambda_max, where
 //! lambda_max ~ max_i K_ii / M_ii is the stiffest element's (the mesh's) top eigenvalue,
 //! thousands of times above any band of interest. Its sign is round-off too. Measured on the
-//! finest free-free bar of `tests/structure.rs` (lambda_ref ~ 3e13): rigid eigenvalues of
+//! finest free-free bar of `tests/numerics/structure.rs` (lambda_ref ~ 3e13): rigid eigenvalues of
 //! 1e-4 to 6e-2, one of them negative, different for each OpenBLAS kernel, against a first
 //! elastic one at 2.8e7. A level tied to the band's top (1e-10 of it, 0.011 there, used
 //! before) sits inside that scatter, so the count flipped with the CPU.
@@ -84,7 +84,7 @@ pub fn rigid_body_flags(magnitudes: &[f64], level: f64, expected: Option<usize>)
 mod tests {
     use super::*;
 
-    /// The eigenvalues that failed on AVX-512 (tests/structure.rs, finest free-free bar):
+    /// The eigenvalues that failed on AVX-512 (tests/numerics/structure.rs, finest free-free bar):
     /// omega^2 from the frequencies printed, one rigid value negative.
     fn failing_bar() -> Vec<f64> {
         let w2 = |f: f64| (2.0 * std::f64::consts::PI * f).powi(2);

@@ -39,7 +39,7 @@ fn material(name: &str, young: f64) -> Material {
     }
 }
 
-/// Every block the tests build (`tests/structure.rs`, `tests/contact_statics.rs`, the
+/// Every block the tests build (`tests/numerics/structure.rs`, `tests/numerics/contact_statics.rs`, the
 /// contact unit tests, `block`'s own tests): origin, lengths, divisions.
 const BLOCKS: [([f64; 3], [f64; 3], [usize; 3]); 15] = [
     ([1.0, 2.0, 3.0], [0.3, 0.2, 0.1], [3, 2, 2]),

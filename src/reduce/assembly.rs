@@ -1278,7 +1278,7 @@ mod tests {
         }
     }
 
-    /// M = I, K = [[2, 1 - D], [1, 2]]: omega^2 = 2 +/- sqrt(1 - D) (tests/cea.rs).
+    /// M = I, K = [[2, 1 - D], [1, 2]]: omega^2 = 2 +/- sqrt(1 - D) (tests/numerics/cea.rs).
     #[test]
     fn dense_cea_of_the_two_dof_mode_coupling_model() {
         for d in [0.5, 0.99, 1.01, 1.5, 3.0] {

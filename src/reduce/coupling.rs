@@ -161,14 +161,18 @@ pub fn couple_points(
 /// -1.93 % to -0.48 % with them (issue 29).
 ///
 /// In Abaqus's terms each is a distributing coupling with uniform weights and mesh-size
-/// weighting, over the share's nodes instead of a radius. Errors (naming the node) when a
-/// share holds fewer than 3 nodes not on one line: the grid is then finer than the mesh.
+/// weighting, over the share's nodes instead of a radius. A share's translation is the
+/// weighted mean of its nodes, which one node already gives: a share of one node, or of a
+/// row of nodes on one line (an edge share of a grid about as fine as the mesh), couples
+/// soundly, and its patch law reads its slope with its neighbours' nodes
+/// ([`super::tilt::share_slope_patch`]). Errors (naming the node) when a share holds no
+/// face node: the grid is then finer than the mesh.
 pub fn couple_shares(
     mesh: &Mesh,
     surface: &Surface,
     grid: &ContactGrid,
 ) -> Result<Vec<DistributingCoupling>, ReduceError> {
-    use crate::fem::distributing::{normalise, on_one_line};
+    use crate::fem::distributing::normalise;
     // Checked as `couple_points` checks them, before any node is looked up.
     surface_points(mesh, surface)?;
     let mut couplings: Vec<DistributingCoupling> = grid
@@ -216,14 +220,11 @@ pub fn couple_shares(
         // The share's reach stands for a radius: the coupling's extent in messages and the
         // scale of the collinearity test.
         c.radius = c.nodes.iter().map(|n| n.distance).fold(0.0, f64::max);
-        let collinear = c.nodes.len() >= 3 && on_one_line(&c.nodes, c.radius);
-        if c.nodes.len() < 3 || collinear {
+        if c.nodes.is_empty() {
             return Err(ReduceError::ShareTooSmall {
                 surface: surface.name.clone(),
                 reduced_node: c.reduced_node,
                 position: c.reference,
-                found: c.nodes.len(),
-                collinear,
             });
         }
         normalise(&mut c.nodes);
@@ -473,13 +474,16 @@ mod tests {
         assert_eq!(seen.len(), areas.len());
         let total: f64 = areas.values().sum();
         assert!((total - grid.surface_area).abs() < 1e-12 * total);
-        // A grid finer than the mesh leaves a share with too few nodes, named.
-        let fine = isometric_grid(&mesh, surface, GridSize::Spacing(0.06)).unwrap();
+        // A grid finer than the mesh leaves a share without a node, named (nodes every
+        // 0.05, shares of 0.03).
+        let fine = isometric_grid(&mesh, surface, GridSize::Spacing(0.03)).unwrap();
         let err = couple_shares(&mesh, surface, &fine).unwrap_err();
         assert!(matches!(err, ReduceError::ShareTooSmall { .. }), "{err}");
         let text = err.to_string();
         assert!(
-            text.contains("'z1'") && text.contains("fewer reduced contact nodes"),
+            text.contains("'z1'")
+                && text.contains("holds no surface node")
+                && text.contains("fewer reduced contact nodes"),
             "{text}"
         );
     }

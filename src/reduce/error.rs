@@ -60,22 +60,18 @@ pub enum ReduceError {
         found: usize,
         collinear: bool,
     },
-    /// A share coupling ([`super::coupling::couple_shares`]) that would not hold its
-    /// reference point: the grid is finer than the mesh.
+    /// A share coupling ([`super::coupling::couple_shares`]) without a face node: the grid is
+    /// finer than the mesh.
     #[error(
         "surface '{surface}': the share of reduced contact node {reduced_node} at ({:.6e}, \
-         {:.6e}, {:.6e}) holds {found} surface node(s){}; a share coupling needs at least 3 \
-         not on one line: ask for fewer reduced contact nodes, or pad_coupling = \
-         \"distributing\"",
-        position[0], position[1], position[2],
-        if *collinear { ", all on one line" } else { "" }
+         {:.6e}, {:.6e}) holds no surface node (the grid is finer than the mesh there): ask \
+         for fewer reduced contact nodes, or pad_coupling = \"distributing\"",
+        position[0], position[1], position[2]
     )]
     ShareTooSmall {
         surface: String,
         reduced_node: usize,
         position: [f64; 3],
-        found: usize,
-        collinear: bool,
     },
     /// A radius of influence that is not finite and positive.
     #[error("reduced contact node {reduced_node}: radius of influence R = {radius} must be finite and > 0")]
@@ -92,6 +88,10 @@ pub enum ReduceError {
         "reduction.pairs.\"{pair}\": a grid for a pair that is not reduced as a kept pair: {why}"
     )]
     PairGridUnused { pair: String, why: &'static str },
+    /// A kept pair's own grid that is no grid (both or neither of its keys, no node, a side
+    /// that is not finite and positive).
+    #[error("reduction.pairs.\"{pair}\": {why}")]
+    PairGrid { pair: String, why: String },
     /// A reduction was asked for but no contact pair is swept.
     #[error(
         "a reduced interface replaces the swept (disc/pad) pairs, and no pair has sweep = true"

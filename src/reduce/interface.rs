@@ -25,7 +25,7 @@
 //! thing a tie holds is its own contact, k_n A_k (10 E / h per unit area by default: already
 //! stiffer than the pad's material under a patch), so k_s defaults to
 //! [`DEFAULT_SPRING_FACTOR`] k_n A_k; its effect on the eigenvalues is measured by
-//! multiplying it by 10 and 100 (`tests/reduced_interface.rs`).
+//! multiplying it by 10 and 100 (`tests/numerics/reduced_interface.rs`).
 
 use super::coupling::{couple_grid, couple_points, couple_shares, DistributingCoupling, Weighting};
 use super::grid::{isometric_grid, ContactGrid, GridSize};
@@ -115,9 +115,9 @@ pub enum DiscCoupling {
 )]
 #[serde(rename_all = "kebab-case")]
 pub enum PadCoupling {
-    /// [`PadCoupling::Share`] where every share of every pad holds at least three face nodes
-    /// off one line (the fewest a share's plane, and so its patch law's slope, is read
-    /// from) and the contacts carry patch laws, [`PadCoupling::Distributing`] otherwise
+    /// [`PadCoupling::Share`] where every share of every pad holds a face node (a share
+    /// whose nodes lie on one line reads its patch law's slope with its neighbours' nodes,
+    /// [`super::tilt::share_slope_patch`]) and the contacts carry patch laws, [`PadCoupling::Distributing`] otherwise
     /// (see [`InterfaceSettings::resolved`]). On small-caliper with 52 nodes per
     /// pad, share couplings found 16 of the full model's 18 instabilities where the paper's
     /// couplings found 13 with patch laws, and took its pad-rocking mode without friction
@@ -207,6 +207,12 @@ pub struct ReducedPad {
     /// Whether the pair is swept (a disc/pad interface, the super-elements' boundary) or a
     /// kept pair reduced too ([`super::pairs`]).
     pub swept: bool,
+    /// How many of its share couplings read their patch law's slope with their neighbours'
+    /// nodes (their own lie on one line, [`tilt::share_slope_patch`]).
+    pub borrowed_slopes: usize,
+    /// Whether those borrowed slopes' ties depend on the others (share couplings asked for
+    /// by name on such a grid): the full-size model is sound, a super-element on it is not.
+    pub dependent_ties: bool,
 }
 
 /// A reduced-interface model and what was reduced.
@@ -233,10 +239,20 @@ impl ReducedInterface {
                 } else {
                     " (kept pair, point contacts)"
                 };
-                let patch = if p.tilt_nodes.is_empty() {
-                    ""
-                } else {
-                    "; patch laws (two tilt nodes per reduced contact node)"
+                let patch = match (p.tilt_nodes.is_empty(), p.borrowed_slopes) {
+                    (true, _) => String::new(),
+                    (false, 0) => "; patch laws (two tilt nodes per reduced contact node)".into(),
+                    (false, b) => format!(
+                        "; patch laws (two tilt nodes per reduced contact node; {b} share(s) \
+                         with their face nodes on one line read their slope with their \
+                         neighbours' nodes{})",
+                        if p.dependent_ties {
+                            ", ties that depend on the others': a super-element on this \
+                             interface would have a singular reduced mass"
+                        } else {
+                            ""
+                        }
+                    ),
                 };
                 // With share couplings the radius is the disc-side patches' alone.
                 let radius = match p.pad_coupling {
@@ -489,10 +505,10 @@ impl InterfaceSettings {
             } else if self.tilt == Some(false) {
                 "point contacts asked for"
             } else if s.pad_coupling == PadCoupling::Share {
-                "every share of the pad faces holds three face nodes or more off one line"
+                "every share of the pad faces holds a face node"
             } else {
-                "a share of the pad faces would hold fewer than three face nodes, or all on \
-                 one line"
+                "a share of the pad faces would hold no face node, or read its slope from \
+                 neighbours whose own ties fix their nodes"
             };
             let (pad, laws) = (
                 if s.pad_coupling == PadCoupling::Share {
@@ -517,8 +533,32 @@ impl InterfaceSettings {
     }
 }
 
+/// Whether the slope ties of shares that borrow their neighbours' nodes are independent of
+/// the other ties ([`tilt::share_ties_independence`] above [`INDEPENDENT_TIES`]); true when
+/// no share borrows (each reads its slope from its own nodes, as before borrowing existed).
+fn slope_ties_independent(
+    couplings: &[DistributingCoupling],
+    grid: &ContactGrid,
+    positions: &[[f64; 3]],
+) -> bool {
+    let borrows = (0..couplings.len()).any(|k| {
+        tilt::share_slope_patch(couplings, grid, k, positions, grid.nodes[k].normal).1 > 0
+    });
+    !borrows || tilt::share_ties_independence(couplings, grid, positions) > INDEPENDENT_TIES
+}
+
+/// The least independence of a pad face's ties ([`tilt::share_ties_independence`]) for shares
+/// that borrow. Measured: 0.29-0.65 where no share borrows (tiny at 6 and 10 nodes per pad,
+/// small-caliper at 22 and 52, medium-caliper at 52 and 75); 0 or 1e-19 where shares borrow
+/// from neighbours whose own ties fix their nodes (tiny at 22, small-caliper at 106,
+/// medium-caliper at 90 and 106). Anything between is as good as dependent for a reduced
+/// mass that must factor.
+const INDEPENDENT_TIES: f64 = 1e-6;
+
 /// Whether every swept pad face of `model` can be split into shares of a grid of `size`,
-/// each with three face nodes or more off one line ([`couple_shares`]). A pair without
+/// each with a face node ([`couple_shares`]) and, where shares borrow their neighbours'
+/// nodes for their slopes, with independent ties (a super-element on them must have a
+/// regular reduced mass). A pair without
 /// its surfaces is left to [`reduce_interface`] to refuse by name.
 fn shares_fit(model: &Model, swept: &[usize], size: GridSize) -> Result<bool, ReduceError> {
     for slave in swept
@@ -527,10 +567,13 @@ fn shares_fit(model: &Model, swept: &[usize], size: GridSize) -> Result<bool, Re
         .filter_map(|(slave, _)| model.mesh.surfaces.get(&slave))
     {
         let grid = isometric_grid(&model.mesh, slave, size)?;
-        match couple_shares(&model.mesh, slave, &grid) {
-            Ok(_) => {}
+        let couplings = match couple_shares(&model.mesh, slave, &grid) {
+            Ok(c) => c,
             Err(ReduceError::ShareTooSmall { .. }) => return Ok(false),
             Err(e) => return Err(e),
+        };
+        if !slope_ties_independent(&couplings, &grid, &model.mesh.nodes) {
+            return Ok(false);
         }
     }
     Ok(true)
@@ -631,6 +674,10 @@ pub fn reduce_interface(
             spring_stiffness: Vec::new(),
             tilt_nodes: Vec::new(),
             swept: model.swept[i],
+            borrowed_slopes: 0,
+            dependent_ties: settings.patch_laws()
+                && settings.pad_coupling == PadCoupling::Share
+                && !slope_ties_independent(&couplings, &grid, &mesh.nodes),
         };
         let hits = grid
             .nodes
@@ -679,13 +726,22 @@ pub fn reduce_interface(
             });
             let tilt = if settings.patch_laws() {
                 let r = [reduced.node_count(), reduced.node_count() + 1];
+                let pad_patch = match settings.pad_coupling {
+                    PadCoupling::Share => {
+                        let (patch, borrowed) =
+                            tilt::share_slope_patch(&couplings, &grid, k, &mesh.nodes, hit.normal);
+                        pad.borrowed_slopes += usize::from(borrowed > 0);
+                        patch
+                    }
+                    _ => tilt::patch(coupling, &mesh.nodes),
+                };
                 let made = tilt::node_tilt(
                     &name,
                     k,
                     r,
                     hit.normal,
                     grid.plane.axes,
-                    &tilt::patch(coupling, &mesh.nodes),
+                    &pad_patch,
                     &tilt::patch(&disc_patches[k], &mesh.nodes),
                     node.area,
                     node.second_moment,
@@ -815,8 +871,8 @@ fn kept_pairs(model: &Model, settings: &InterfaceSettings) -> Result<Vec<usize>,
 /// one resolution for the whole interface), with point contacts (a kept pair's Coulomb
 /// stick and slip admits no patch law), ties of [`KEPT_SPRING_FACTOR`] unless the study
 /// sets their stiffness, and the swept pairs' couplings where its face holds
-/// them (share couplings need three face nodes off one line per share; the paper's
-/// distributing couplings, the master tied at one point, otherwise).
+/// them (share couplings need a face node in every share; the paper's distributing
+/// couplings, the master tied at one point, otherwise).
 fn kept_settings(
     model: &Model,
     pair: usize,
@@ -1164,20 +1220,23 @@ mod tests {
             DiscCoupling::ShapeFunctions,
             Some(false),
         );
-        // tiny's pad faces hold 6 shares, not 22 (`couple_shares` refuses that grid).
-        assert!(couple_shares(
-            &model.mesh,
-            &model.mesh.surfaces["pad_inboard_friction_face"],
-            &isometric_grid(
+        // tiny's pad faces (65 face nodes) hold 22 shares, not 52: a share of that grid
+        // holds no face node (`couple_shares` refuses it). At 22, 10 shares hold fewer
+        // than three nodes or one row, and their neighbours' own ties fix the nodes they
+        // would read their slopes from: the default takes the paper's interface.
+        let face = &model.mesh.surfaces["pad_inboard_friction_face"];
+        let shares = |n: usize| {
+            couple_shares(
                 &model.mesh,
-                &model.mesh.surfaces["pad_inboard_friction_face"],
-                GridSize::Count(22)
+                face,
+                &isometric_grid(&model.mesh, face, GridSize::Count(n)).unwrap(),
             )
-            .unwrap()
-        )
-        .is_err());
+        };
+        assert!(shares(22).is_ok());
+        assert!(matches!(shares(52), Err(ReduceError::ShareTooSmall { .. })));
         assert_eq!(chosen(&auto(6)), squeals);
         assert_eq!(chosen(&auto(22)), papers);
+        assert_eq!(chosen(&auto(52)), papers);
         // Point contacts asked for: the paper's couplings go with them.
         let point = InterfaceSettings {
             tilt: Some(false),
@@ -1235,8 +1294,25 @@ mod tests {
         assert!(
             said.starts_with(
                 "chosen by default: the paper's distributing couplings with point \
-                 contacts (a share of the pad faces would hold fewer than three"
+                 contacts (a share of the pad faces would hold no face node, or read its \
+                 slope from neighbours whose own ties fix their nodes)"
             ),
+            "{said}"
+        );
+        // Share couplings asked for by name there: the shares that cannot read a slope of
+        // their own borrow, and the log says that a super-element would not factor.
+        let asked = InterfaceSettings {
+            pad_coupling: PadCoupling::Share,
+            ..auto(22)
+        };
+        let reduced = reduce_interface(&model, &asked).unwrap();
+        assert!(reduced
+            .pads
+            .iter()
+            .all(|p| p.borrowed_slopes > 0 && p.dependent_ties));
+        let said = reduced.summary();
+        assert!(
+            said.contains("read their slope with their neighbours' nodes, ties that depend"),
             "{said}"
         );
         let given = reduce_interface(&model, &InterfaceSettings::paper(GridSize::Count(6)));

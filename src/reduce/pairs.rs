@@ -85,33 +85,51 @@ impl std::str::FromStr for ReducePairs {
 }
 
 /// In a study: `reduce_pairs = "swept"`, `"all"` or `["caliper/pad", ...]`.
-#[derive(serde::Serialize, serde::Deserialize)]
-#[serde(untagged)]
-enum Repr {
-    Word(String),
-    Names(Vec<String>),
-}
-
 impl serde::Serialize for ReducePairs {
     fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         match self {
-            ReducePairs::Named(names) => Repr::Names(names.clone()),
-            other => Repr::Word(other.to_string()),
+            ReducePairs::Named(names) => names.serialize(s),
+            other => s.serialize_str(&other.to_string()),
         }
-        .serialize(s)
+    }
+}
+
+/// Read by a visitor rather than an untagged enum: serde's untagged enum answers any other
+/// value (`reduce_pairs = 3`) with "data did not match any variant", where a user needs
+/// the forms the key takes.
+struct PairsVisitor;
+
+const EXPECTED: &str = "\"swept\", \"all\" or a list of pair names";
+
+impl<'de> serde::de::Visitor<'de> for PairsVisitor {
+    type Value = ReducePairs;
+
+    fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        f.write_str(EXPECTED)
+    }
+
+    fn visit_str<E: serde::de::Error>(self, w: &str) -> Result<ReducePairs, E> {
+        match w {
+            "swept" => Ok(ReducePairs::Swept),
+            "all" => Ok(ReducePairs::All),
+            _ => Err(E::custom(format!(
+                "reduce_pairs = \"{w}\": give {EXPECTED}"
+            ))),
+        }
+    }
+
+    fn visit_seq<A: serde::de::SeqAccess<'de>>(self, mut seq: A) -> Result<ReducePairs, A::Error> {
+        let mut names = Vec::new();
+        while let Some(name) = seq.next_element::<String>()? {
+            names.push(name);
+        }
+        Ok(ReducePairs::Named(names))
     }
 }
 
 impl<'de> serde::Deserialize<'de> for ReducePairs {
     fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        match Repr::deserialize(d)? {
-            Repr::Word(w) if w == "swept" => Ok(ReducePairs::Swept),
-            Repr::Word(w) if w == "all" => Ok(ReducePairs::All),
-            Repr::Word(w) => Err(serde::de::Error::custom(format!(
-                "reduce_pairs = \"{w}\": give \"swept\", \"all\" or a list of pair names"
-            ))),
-            Repr::Names(names) => Ok(ReducePairs::Named(names)),
-        }
+        d.deserialize_any(PairsVisitor)
     }
 }
 
@@ -179,6 +197,19 @@ mod tests {
         );
         let e = read("reduce_pairs = \"some\"").unwrap_err().to_string();
         assert!(e.contains("\"swept\", \"all\" or a list"), "{e}");
+        // Any other value is told the forms the key takes (an untagged enum said only
+        // "data did not match any variant").
+        for wrong in ["3", "true", "{ a = 1 }", "[1, 2]"] {
+            let e = read(&format!("reduce_pairs = {wrong}"))
+                .unwrap_err()
+                .to_string();
+            let expected = if wrong.starts_with('[') {
+                "a string"
+            } else {
+                "\"swept\", \"all\" or a list of pair names"
+            };
+            assert!(e.contains(expected) && e.contains("line 1"), "{wrong}: {e}");
+        }
         for r in [ReducePairs::Swept, ReducePairs::All, named.clone()] {
             let text = toml::to_string(&Holder {
                 reduce_pairs: r.clone(),

@@ -1096,6 +1096,7 @@ mod tests {
             toml::from_str::<ReductionSpec>(&format!("contact_nodes_per_pad = 6\n{text}"))
                 .unwrap()
                 .settings()
+                .unwrap()
                 .tilt
         };
         assert_eq!(settings(""), None);
@@ -1109,17 +1110,20 @@ mod tests {
     #[test]
     fn the_disc_coupling_and_area_weighting_keys_read_and_errors_name_them() {
         let r: ReductionSpec = toml::from_str("contact_nodes_per_pad = 6\n").unwrap();
-        assert_eq!(r.settings().disc_coupling, DiscCoupling::Auto);
-        assert!(!r.settings().area_weighting);
+        assert_eq!(r.settings().unwrap().disc_coupling, DiscCoupling::Auto);
+        assert!(!r.settings().unwrap().area_weighting);
         let r: ReductionSpec = toml::from_str(
             "contact_nodes_per_pad = 6\ndisc_coupling = \"distributing\"\narea_weighting = true\n",
         )
         .unwrap();
-        assert_eq!(r.settings().disc_coupling, DiscCoupling::Distributing);
-        assert!(r.settings().area_weighting);
+        assert_eq!(
+            r.settings().unwrap().disc_coupling,
+            DiscCoupling::Distributing
+        );
+        assert!(r.settings().unwrap().area_weighting);
         let r: ReductionSpec =
             toml::from_str("contact_nodes_per_pad = 6\ndisc_coupling = \"share\"\n").unwrap();
-        assert_eq!(r.settings().disc_coupling, DiscCoupling::Share);
+        assert_eq!(r.settings().unwrap().disc_coupling, DiscCoupling::Share);
         let p = write(
             "disc.toml",
             "[reduction]\ncontact_nodes_per_pad = 6\ndisc_coupling = \"glued\"\n",
@@ -1137,13 +1141,13 @@ mod tests {
     #[test]
     fn the_pad_coupling_key_reads_and_is_always_written() {
         let r: ReductionSpec = toml::from_str("contact_nodes_per_pad = 6\n").unwrap();
-        assert_eq!(r.settings().pad_coupling, PadCoupling::Auto);
+        assert_eq!(r.settings().unwrap().pad_coupling, PadCoupling::Auto);
         assert!(toml::to_string(&r)
             .unwrap()
             .contains("pad_coupling = \"auto\""));
         let r: ReductionSpec =
             toml::from_str("contact_nodes_per_pad = 6\npad_coupling = \"share\"\n").unwrap();
-        assert_eq!(r.settings().pad_coupling, PadCoupling::Share);
+        assert_eq!(r.settings().unwrap().pad_coupling, PadCoupling::Share);
         assert!(toml::to_string(&r)
             .unwrap()
             .contains("pad_coupling = \"share\""));
@@ -1163,7 +1167,10 @@ mod tests {
     #[test]
     fn reduced_kept_pairs_and_their_grids_read_and_are_checked() {
         let r: ReductionSpec = toml::from_str("contact_nodes_per_pad = 6\n").unwrap();
-        assert!(r.settings().reduce_pairs.is_swept() && r.settings().pair_grids.is_empty());
+        assert!(
+            r.settings().unwrap().reduce_pairs.is_swept()
+                && r.settings().unwrap().pair_grids.is_empty()
+        );
         let text = toml::to_string(&r).unwrap();
         assert!(
             !text.contains("reduce_pairs") && !text.contains("pairs"),
@@ -1174,7 +1181,7 @@ mod tests {
              [pairs.\"piston/pad\"]\ncontact_nodes = 12\n",
         )
         .unwrap();
-        let s = r.settings();
+        let s = r.settings().unwrap();
         assert_eq!(s.reduce_pairs, ReducePairs::All);
         assert_eq!(s.pair_grids["piston/pad"], GridSize::Count(12));
         let again: ReductionSpec = toml::from_str(&toml::to_string(&r).unwrap()).unwrap();
@@ -1189,6 +1196,17 @@ mod tests {
             e.contains("pairs.toml")
                 && e.contains("reduction.pairs.\"piston/pad\"")
                 && e.contains("not both"),
+            "{e}"
+        );
+        // A caller that skips the study's check still gets the grid refused, not dropped.
+        let unchecked: ReductionSpec = toml::from_str(
+            "contact_nodes_per_pad = 6\nreduce_pairs = \"all\"\n\
+             [pairs.\"piston/pad\"]\ncontact_nodes = 12\nspacing = 0.01\n",
+        )
+        .unwrap();
+        let e = unchecked.settings().unwrap_err().to_string();
+        assert!(
+            e.contains("reduction.pairs.\"piston/pad\"") && e.contains("not both"),
             "{e}"
         );
     }

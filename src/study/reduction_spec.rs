@@ -3,8 +3,8 @@
 //! reduction (METHOD.md section 5).
 
 use crate::reduce::{
-    DiscCoupling, GridSize, InterfaceSettings, PadCoupling, PairGrid, RadiusChoice, ReducePairs,
-    Strategy, Weighting,
+    DiscCoupling, GridSize, InterfaceSettings, PadCoupling, PairGrid, RadiusChoice, ReduceError,
+    ReducePairs, Strategy, Weighting,
 };
 use std::collections::BTreeMap;
 
@@ -118,9 +118,13 @@ impl ReductionSpec {
         }
     }
 
-    /// The settings of [`crate::reduce::reduce_interface`] (checked by [`ReductionSpec::check`]).
-    pub fn settings(&self) -> InterfaceSettings {
-        InterfaceSettings {
+    /// The settings of [`crate::reduce::reduce_interface`] ([`ReductionSpec::check`] names
+    /// what is wrong with the table first; a pair grid that is no grid is refused here too,
+    /// for a caller that did not check).
+    pub fn settings(&self) -> Result<InterfaceSettings, ReduceError> {
+        let pair_grids = PairGrid::sizes(&self.pairs)
+            .map_err(|(pair, why)| ReduceError::PairGrid { pair, why })?;
+        Ok(InterfaceSettings {
             size: match (self.contact_nodes_per_pad, self.spacing) {
                 (_, Some(h)) => GridSize::Spacing(h),
                 (Some(n), None) => GridSize::Count(n),
@@ -135,9 +139,8 @@ impl ReductionSpec {
             area_weighting: self.area_weighting,
             tilt: self.tilt.or(self.cubic_law().then_some(false)),
             reduce_pairs: self.reduce_pairs.clone(),
-            // Checked by `check`: a wrong grid never gets here.
-            pair_grids: PairGrid::sizes(&self.pairs).unwrap_or_default(),
-        }
+            pair_grids,
+        })
     }
 
     /// Whether k_linear or k_cubic asks for the paper's cubic law between point contacts.

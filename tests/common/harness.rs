@@ -1,6 +1,6 @@
 //! The harness for tests that need PETSc. PETSc can be initialised once per process and is
-//! not thread-safe, so every check runs in its own `mpirun` job: a test file using this is
-//! both the libtest-mimic harness (parent: one trial per check, never touching MPI itself)
+//! not thread-safe, so every check runs in its own `mpirun` job: the test binary using this
+//! (`tests/numerics/`) is both the libtest-mimic harness (parent: one trial per check, never touching MPI itself)
 //! and the program those jobs run (`--child NAME`). The parent runs each check on every
 //! rank count it lists and compares the numbers the runs printed.
 
@@ -19,21 +19,60 @@ pub struct Check {
     pub agreement: f64,
 }
 
-pub fn main(checks: &'static [Check]) {
+/// The harness over the checks of each file: `(file, checks)`, each check a trial named
+/// `file::check`.
+pub fn main(files: &[(&'static str, &'static [Check])]) {
+    let named = || {
+        files.iter().flat_map(|&(file, checks)| {
+            checks
+                .iter()
+                .map(move |c| (format!("{file}::{}", c.name), c))
+        })
+    };
     let args: Vec<String> = std::env::args().collect();
     if args.len() >= 3 && args[1] == "--child" {
-        std::process::exit(child(checks, &args[2]));
+        let found = named().find(|(name, _)| *name == args[2]);
+        std::process::exit(match found {
+            Some((name, check)) => child(check, &name),
+            None => {
+                eprintln!("no check named {}", args[2]);
+                2
+            }
+        });
     }
     let arguments = Arguments::from_args();
     let exe = std::env::current_exe().expect("own path");
-    let trials = checks
-        .iter()
-        .map(|c| {
+    let only = only();
+    let trials = named()
+        .filter(|(name, _)| {
+            only.as_ref()
+                .is_none_or(|o| o.iter().any(|w| selects(w, name)))
+        })
+        .map(|(name, c)| {
             let exe = exe.clone();
-            Trial::test(c.name, move || parent(&exe, c))
+            let trial_name = name.clone();
+            Trial::test(trial_name, move || parent(&exe, &name, c))
         })
         .collect();
     libtest_mimic::run(&arguments, trials).exit();
+}
+
+/// The checks `SQUEAL_TEST_ONLY` (a comma-separated list) names, when it is set: libtest-mimic
+/// takes one filter on its command line, and `ci/test` reruns a list of checks under each
+/// other BLAS kernel in one run of the binary, so that they share the cores.
+fn only() -> Option<Vec<String>> {
+    let list = std::env::var("SQUEAL_TEST_ONLY").ok()?;
+    Some(list.split(',').map(|s| s.trim().to_string()).collect())
+}
+
+/// Whether an entry of `SQUEAL_TEST_ONLY` selects the check `name`: its whole name, or, for
+/// an entry ending in `::`, every check of that file.
+fn selects(entry: &str, name: &str) -> bool {
+    if entry.ends_with("::") {
+        name.starts_with(entry)
+    } else {
+        entry == name
+    }
 }
 
 /// The rank counts to run `check` on: all it lists, or, with `SQUEAL_TEST_RANKS=2` (a
@@ -65,8 +104,7 @@ fn rank_counts(check: &Check) -> Vec<usize> {
     }
 }
 
-fn parent(exe: &std::path::Path, check: &Check) -> Result<(), Failed> {
-    let name = check.name;
+fn parent(exe: &std::path::Path, name: &str, check: &Check) -> Result<(), Failed> {
     let mut results: Vec<(usize, Vec<f64>)> = Vec::new();
     for n in rank_counts(check) {
         let out = super::mpirun(n, exe, &["--child", name]);
@@ -104,11 +142,7 @@ fn parent(exe: &std::path::Path, check: &Check) -> Result<(), Failed> {
     Ok(())
 }
 
-fn child(checks: &[Check], name: &str) -> i32 {
-    let Some(check) = checks.iter().find(|c| c.name == name) else {
-        eprintln!("no check named {name}");
-        return 2;
-    };
+fn child(check: &Check, name: &str) -> i32 {
     let rt = Runtime::init(&RuntimeOptions::default()).expect("PETSc initialises");
     let rank = rt.world().rank();
     let code = match (check.run)(&rt) {

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes the constraint test decks of tests/deck_constraints.rs (python3 constraint_decks.py,
+"""Writes the constraint test decks of tests/numerics/deck_constraints.rs (python3 constraint_decks.py,
 in tests/data): C3D10 boxes (Kuhn split, 6 tets a cube, nodes on a half-grid) with
 *EQUATION, *COUPLING + *DISTRIBUTING, *TRANSFORM and prescribed displacements. The CalculiX
 results kept beside them (*.ccx.json) come from running ccx 2.20 on the decks (and on the
@@ -110,7 +110,7 @@ def coupled_block(path, ccx_coupling):
     with open(path, "w") as f:
         f.write("*HEADING\nCoupled block: 20 x 20 x 10 mm steel block on springs, 0.5 kg on a "
                 "distributing coupling 15 mm above its top face\n")
-        f.write("** Written by tests/data/constraint_decks.py for tests/deck_constraints.rs.\n")
+        f.write("** Written by tests/data/constraint_decks.py for tests/numerics/deck_constraints.rs.\n")
         write_nodes(f, nodes)
         write_elements(f, elements, "EBLOCK")
         f.write(STEEL + "*SOLID SECTION, ELSET=EBLOCK, MATERIAL=STEEL\n")
@@ -145,7 +145,7 @@ def bar(path):
     nodes, elements, _ = box((10, 1, 1), (0.1, 0.01, 0.01))
     with open(path, "w") as f:
         f.write("*HEADING\nBar 100 x 10 x 10 mm stretched by a prescribed end displacement\n")
-        f.write("** Written by tests/data/constraint_decks.py for tests/deck_constraints.rs.\n")
+        f.write("** Written by tests/data/constraint_decks.py for tests/numerics/deck_constraints.rs.\n")
         write_nodes(f, nodes)
         write_elements(f, elements, "EBAR")
         f.write(STEEL + "*SOLID SECTION, ELSET=EBAR, MATERIAL=STEEL\n")
@@ -191,7 +191,7 @@ def tube(path):
     with open(path, "w") as f:
         f.write("*HEADING\nTube sector expanded by prescribed radial displacements in a "
                 "cylindrical *TRANSFORM\n")
-        f.write("** Written by tests/data/constraint_decks.py for tests/deck_constraints.rs.\n")
+        f.write("** Written by tests/data/constraint_decks.py for tests/numerics/deck_constraints.rs.\n")
         write_nodes(f, nodes)
         write_elements(f, elements, "ETUBE")
         f.write(STEEL + "*SOLID SECTION, ELSET=ETUBE, MATERIAL=STEEL\n")
@@ -360,10 +360,10 @@ def cantilever(path, ccx_variant):
                    "*DISTRIBUTING\n1, 3\n")
     cut = text.index("\n*BOUNDARY\n") + 1
     head = text[:cut].replace(
-        "** Written for tests/deck_discrete.rs (squeal); frequencies from CalculiX 2.20 in "
+        "** Written for tests/numerics/deck_discrete.rs (squeal); frequencies from CalculiX 2.20 in "
         "discrete_c3d10.ccx.json.",
         "** discrete_c3d10.inp with constraints, written by tests/data/constraint_decks.py for "
-        "tests/deck_constraints.rs; frequencies from CalculiX 2.20 (on constraints_c3d10.ccx.inp) "
+        "tests/numerics/deck_constraints.rs; frequencies from CalculiX 2.20 (on constraints_c3d10.ccx.inp) "
         "in constraints_c3d10.ccx.json.")
     tail = text[cut:]
     if ccx_variant:

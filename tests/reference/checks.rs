@@ -1,5 +1,5 @@
 //! Checks of the reference solutions against published values, limits and independent
-//! computations (run by `tests/reference_solutions.rs`).
+//! computations (run by `tests/program/reference_solutions.rs`).
 
 use crate::reference::*;
 use std::f64::consts::PI;

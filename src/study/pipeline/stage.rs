@@ -5,12 +5,12 @@
 //! comparisons (reduced interfaces against the full model, the paper's Tables 4-5;
 //! super-elements against the reduced interface they were built on, Tables 6-7).
 //!
-//! Each stage has a key: a hash of everything its result depends on (squeal's version, the
-//! study it sweeps as TOML with the output folder left out, the bytes of the mesh file and of
-//! the files it includes; for a comparison, its inputs' keys). A stage whose key matches the
+//! Each stage has a key: a hash of everything its result depends on (squeal's version and
+//! build, the study it sweeps as TOML with the output folder left out, the bytes of the mesh
+//! file and of the files it includes; for a comparison, its inputs' keys). A stage whose key matches the
 //! one recorded beside its folder is not run again.
 
-use crate::mesh::hash::text_hash;
+use crate::mesh::hash::{bytes_hash, text_hash};
 use crate::study::config::{ReductionSpec, Study};
 use std::path::PathBuf;
 
@@ -42,9 +42,29 @@ pub const FRICTIONLESS: &str = "frictionless-";
 /// The comparison of the reduced interfaces against the full model without friction.
 pub const COMPARE_FRICTIONLESS: &str = "compare-frictionless";
 
-/// The version that goes into every key: results of another squeal are not reused.
+/// squeal's version, as the report and the stage records say it.
 pub fn version() -> String {
     format!("squeal {}", env!("CARGO_PKG_VERSION"))
+}
+
+/// What goes into every key: the version and the build, so that results of another squeal,
+/// or of another build of this one, are not reused.
+///
+/// Why the build. With the version alone, a squeal rebuilt from changed numerics took the
+/// stages and cached points of the build before it as its own (the crate's version does not
+/// change from one commit to the next); a rebuild of the same code costs only a cache miss.
+/// The build is known by a hash of the running executable's bytes (about 0.1 s, once). The
+/// decisions to reuse are taken on rank 0 alone and broadcast, so ranks that read different
+/// files (or none) cannot disagree.
+fn key_version() -> &'static str {
+    static KEY: std::sync::OnceLock<String> = std::sync::OnceLock::new();
+    KEY.get_or_init(|| {
+        let build = std::env::current_exe()
+            .and_then(std::fs::read)
+            .map(|bytes| bytes_hash(&bytes))
+            .unwrap_or_else(|_| "unreadable".into());
+        format!("{} build {build}", version())
+    })
 }
 
 /// The study of a sweep stage as hashed: the output folder is where the result goes, not
@@ -54,7 +74,10 @@ fn sweep_key(study: &Study, mesh_bytes: &str) -> String {
     s.output = PathBuf::new();
     s.comparison = None;
     let text = toml::to_string(&s).unwrap_or_else(|e| format!("unserialisable study: {e}"));
-    text_hash(&format!("{}\n{text}\nmesh file {mesh_bytes}", version()))
+    text_hash(&format!(
+        "{}\n{text}\nmesh file {mesh_bytes}",
+        key_version()
+    ))
 }
 
 /// The `[reduction]` of a reduced-interface stage: the study's own settings (weighting,
@@ -110,7 +133,7 @@ pub fn plan(study: &Study, mesh_hash: &str) -> Vec<Stage> {
         Stage {
             name: name.into(),
             title,
-            key: text_hash(&format!("{}\ncompare {inputs:?}\n{keys:?}", version())),
+            key: text_hash(&format!("{}\ncompare {inputs:?}\n{keys:?}", key_version())),
             point_key: String::new(),
             work: Work::Compare(inputs),
         }

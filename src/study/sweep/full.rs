@@ -130,7 +130,9 @@ impl<'rt> FullModel<'rt> {
             })
             .and_then(|model| match &study.reduction {
                 None => Ok((model, None)),
-                Some(r) => reduce::reduce_interface(&model, &r.settings())
+                Some(r) => r
+                    .settings()
+                    .and_then(|settings| reduce::reduce_interface(&model, &settings))
                     .map(|reduced| {
                         let spread = reduced_spread(&reduced);
                         (reduced.model.clone(), Some((spread, reduced)))

@@ -1,6 +1,6 @@
 //! The build script's decisions (`build/probe.rs`), unit-tested without running cargo.
 
-#[path = "../build/probe.rs"]
+#[path = "../../build/probe.rs"]
 #[allow(dead_code)]
 mod probe;
 

@@ -1,6 +1,6 @@
 //! The `squeal` binary run as a user runs it: under `mpirun -n 2`.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

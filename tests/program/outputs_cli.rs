@@ -4,7 +4,7 @@
 //! any work, and what was there is left byte for byte. Before, each of these exited 0
 //! having deleted or replaced it.
 
-mod common;
+use crate::common;
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};

@@ -1,7 +1,7 @@
 //! Contact, sliding equilibrium and CEA of the full model, checked against conservation laws
 //! and closed forms, on 1 and 2 ranks (see `common/harness.rs`).
 
-mod common;
+use crate::common;
 
 use common::harness::Check;
 use common::meshes::merge;
@@ -17,7 +17,7 @@ use squeal::model::{self, Model, Operators};
 use squeal::petsc::Runtime;
 use squeal::study::config::Study;
 
-const CHECKS: &[Check] = &[
+pub const CHECKS: &[Check] = &[
     Check {
         name: "block_on_block_balance_and_sliding_friction",
         run: block_on_block,
@@ -43,10 +43,6 @@ const CHECKS: &[Check] = &[
         agreement: 0.0,
     },
 ];
-
-fn main() {
-    common::harness::main(CHECKS);
-}
 
 fn e<E: std::fmt::Display>(err: E) -> String {
     err.to_string()

@@ -2,7 +2,7 @@
 //! then pulled along x and released, through a loading history whose every state has a
 //! closed form from the block's balance. On 1 and 2 ranks (see `common/harness.rs`).
 
-mod common;
+use crate::common;
 
 use common::harness::Check;
 use common::meshes::merge;
@@ -16,16 +16,12 @@ use squeal::fem::{assemble, DofMap, StructureOptions, Support};
 use squeal::mesh::{block::block, Material, Mesh};
 use squeal::petsc::{Matrix, Runtime, Vector};
 
-const CHECKS: &[Check] = &[Check {
+pub const CHECKS: &[Check] = &[Check {
     name: "pulled_block_sticks_slips_and_keeps_its_history",
     run: pulled_block,
     ranks: &[1, 2],
     agreement: 1e-8,
 }];
-
-fn main() {
-    common::harness::main(CHECKS);
-}
 
 fn e<E: std::fmt::Display>(err: E) -> String {
     err.to_string()

@@ -6,7 +6,7 @@
 //! them, once the pads slip on the piston and the fingers, nothing holds them radially, and
 //! the solve must fail cleanly.
 
-mod common;
+use crate::common;
 
 use common::harness::Check;
 use squeal::analysis::cea::{self, CeaOptions};
@@ -19,7 +19,7 @@ use squeal::model::{self, Model, Operators};
 use squeal::petsc::Runtime;
 use squeal::study::config::Study;
 
-const CHECKS: &[Check] = &[
+pub const CHECKS: &[Check] = &[
     Check {
         name: "floating_caliper_static_balance_and_cea",
         run: balance,
@@ -41,10 +41,6 @@ const CHECKS: &[Check] = &[
         agreement: 0.0,
     },
 ];
-
-fn main() {
-    common::harness::main(CHECKS);
-}
 
 fn e<E: std::fmt::Display>(err: E) -> String {
     err.to_string()

@@ -8,7 +8,7 @@
 //! `_friction` with mu 0.3 and the plate sliding along y (`*MOTION, TRANSLATION`), and its
 //! CalculiX twin `_friction_ccx` (the plate pushed along y).
 
-mod common;
+use crate::common;
 
 use common::{mpirun, scratch, squeal, text};
 use num_complex::Complex64;
@@ -314,7 +314,7 @@ fn bad_steps_and_motions_are_refused_by_line() {
 
 /// The frictionless pad on plate with the CalculiX contact variant against CalculiX 2.20
 /// (tests/data/pad_on_plate.ccx.json): squeal's own law is 1.0 % to 5.6 % above it
-/// (tests/deck_contact.rs); with CalculiX's slave areas and smoothed linear law the twelve
+/// (tests/program/deck_contact.rs); with CalculiX's slave areas and smoothed linear law the twelve
 /// frequencies are 0.017 % to 0.029 % above (measured). What remains is CalculiX's NLGEOM,
 /// the stress stiffening of the pressed pad, which squeal leaves out: bounded at 0.1 %.
 #[test]

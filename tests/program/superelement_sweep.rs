@@ -10,7 +10,7 @@
 //! give the same modes to the round-off of the solves; the adaptive one must build one
 //! super-element for the whole sweep.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 

@@ -3,7 +3,7 @@
 //! run interrupted in the middle of a sweep resumes after its last finished point with the
 //! same numbers, and a longer friction list computes only its new points.
 
-mod common;
+use crate::common;
 
 use common::{scratch, squeal};
 use serde_json::Value;

@@ -1,7 +1,7 @@
 //! `squeal cea` on matrix files and `squeal sweep` on the built-in brake, run as a user runs
 //! them (under mpirun), with closed-form checks and bad input.
 
-mod common;
+use crate::common;
 
 use num_complex::Complex64;
 use std::path::{Path, PathBuf};

@@ -1,6 +1,6 @@
 //! Complex eigenvalue analysis against closed forms, on 1 and 2 ranks.
 
-mod common;
+use crate::common;
 
 use common::harness::Check;
 use num_complex::Complex64;
@@ -9,7 +9,7 @@ use squeal::analysis::operators::matrix_from_entries;
 use squeal::petsc::Runtime;
 use std::f64::consts::PI;
 
-const CHECKS: &[Check] = &[
+pub const CHECKS: &[Check] = &[
     Check {
         name: "two_dof_mode_coupling_closed_form",
         run: two_dof_coupling,
@@ -41,10 +41,6 @@ const CHECKS: &[Check] = &[
         agreement: 1e-10,
     },
 ];
-
-fn main() {
-    common::harness::main(CHECKS);
-}
 
 fn e<E: std::fmt::Display>(err: E) -> String {
     err.to_string()

@@ -1,8 +1,8 @@
 //! A deck's discrete elements in the assembled operators, on 1 and 2 ranks (see
 //! `common/harness.rs`): the point masses are in M exactly once, whichever rank owns their
-//! node. The frequencies against CalculiX are in `tests/modes_cli.rs` (through the CLI).
+//! node. The frequencies against CalculiX are in `tests/program/modes_cli.rs` (through the CLI).
 
-mod common;
+use crate::common;
 
 use common::harness::Check;
 use squeal::fem::element::{self, MassRule};
@@ -10,16 +10,12 @@ use squeal::model::{self, source};
 use squeal::petsc::Runtime;
 use std::path::Path;
 
-const CHECKS: &[Check] = &[Check {
+pub const CHECKS: &[Check] = &[Check {
     name: "unsupported_deck_translational_mass_is_solid_plus_point_masses",
     run: translational_mass,
     ranks: &[1, 2],
     agreement: 1e-12,
 }];
-
-fn main() {
-    common::harness::main(CHECKS);
-}
 
 /// The point masses of tests/data/discrete_c3d10.inp: 20 g at the free end and 5 g on the
 /// oscillator node (written here, not read back, so that a reader that lost one fails).

@@ -2,7 +2,7 @@
 //!
 //! Each check runs in its own `mpirun` job on 1 and on 2 ranks (see `common/harness.rs`).
 
-mod common;
+use crate::common;
 
 use faer::linalg::solvers::Solve;
 use faer::{Mat, Par, Side};
@@ -31,7 +31,7 @@ macro_rules! checks {
     };
 }
 
-const CHECKS: &[Check] = checks![
+pub const CHECKS: &[Check] = checks![
     "laplacian_1d_ghep_interval" => laplacian_1d_ghep_interval,
     "laplacian_3d_ghep_target" => laplacian_3d_ghep_target,
     "inertia_counts_laplacian_3d_multiplicities" => inertia_counts,
@@ -53,10 +53,6 @@ const CHECKS: &[Check] = checks![
     "singular_block_factorization_is_err" => singular_block_factorization,
     "tet10_block_craig_bampton_basis" => tet10_craig_bampton,
 ];
-
-fn main() {
-    common::harness::main(CHECKS);
-}
 
 // ---------------------------------------------------------------------------------------
 // Helpers: row distribution and banded matrices built from a row function.

@@ -6,7 +6,7 @@
 //! a lining pad pressed by 1 MPa on a clamped steel plate, frictionless node-to-surface
 //! contact with a linear pressure-overclosure law of slope 1e13 Pa/m.
 
-mod common;
+use crate::common;
 
 use common::{mpirun, scratch, squeal, text};
 use num_complex::Complex64;

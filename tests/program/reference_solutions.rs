@@ -2,7 +2,5 @@
 //! against published values, limits and independent computations, before any test leans on
 //! them.
 
-mod reference;
-
-#[path = "reference/checks.rs"]
+#[path = "../reference/checks.rs"]
 mod checks;

@@ -1,7 +1,7 @@
 //! `squeal modes` and `squeal mesh` run as a user runs them (the binary under mpirun), checked
 //! against CalculiX, against themselves through a file round trip, and on bad input.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 

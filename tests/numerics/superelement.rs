@@ -3,7 +3,7 @@
 //! `common/harness.rs`): its eigenvalues against the real modes of the whole model without
 //! the swept contact, their convergence with the cut-off, and its equilibrium.
 
-mod common;
+use crate::common;
 
 use common::harness::Check;
 use faer::{Mat, Side};
@@ -20,7 +20,7 @@ use squeal::reduce::{
 use squeal::study::config::Study;
 use std::f64::consts::PI;
 
-const CHECKS: &[Check] = &[
+pub const CHECKS: &[Check] = &[
     Check {
         name: "superelement_reproduces_its_equilibrium",
         run: equilibrium,
@@ -58,10 +58,6 @@ const CHECKS: &[Check] = &[
         agreement: 1e-8,
     },
 ];
-
-fn main() {
-    common::harness::main(CHECKS);
-}
 
 fn e(err: impl std::fmt::Display) -> String {
     err.to_string()

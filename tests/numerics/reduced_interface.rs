@@ -2,7 +2,7 @@
 //! force balance, the full model it stands for, the convergence of its tie springs, on 1 and
 //! 2 ranks (see `common/harness.rs`).
 
-mod common;
+use crate::common;
 
 use common::harness::Check;
 use squeal::analysis::cea::{self, CeaOptions};
@@ -15,7 +15,7 @@ use squeal::petsc::Runtime;
 use squeal::reduce::{reduce_interface, DiscCoupling, GridSize, InterfaceSettings, PadCoupling};
 use squeal::study::config::Study;
 
-const CHECKS: &[Check] = &[
+pub const CHECKS: &[Check] = &[
     Check {
         name: "reduced_interface_carries_the_load_and_slides",
         run: balance,
@@ -59,10 +59,6 @@ const CHECKS: &[Check] = &[
         agreement: 1e-8,
     },
 ];
-
-fn main() {
-    common::harness::main(CHECKS);
-}
 
 fn e(err: impl std::fmt::Display) -> String {
     err.to_string()

@@ -1,8 +1,8 @@
 //! The structure checked against independent answers: rigid-body modes, total mass, beam
 //! and plate frequencies, on 1 and 2 ranks (see `common/harness.rs`).
 
-mod common;
-mod reference;
+use crate::common;
+use crate::reference;
 
 use common::harness::Check;
 use squeal::analysis::modes::{real_modes, ModeBand, ModesOptions, RealMode};
@@ -16,7 +16,7 @@ use squeal::petsc::{Matrix, Runtime};
 /// the solves agree to ~1e-11 in practice).
 const RANKS_AGREE: f64 = 1e-8;
 
-const CHECKS: &[Check] = &[
+pub const CHECKS: &[Check] = &[
     Check {
         name: "free_free_block_has_exactly_six_rigid_body_modes",
         run: free_free_block,
@@ -54,10 +54,6 @@ const CHECKS: &[Check] = &[
         agreement: RANKS_AGREE,
     },
 ];
-
-fn main() {
-    common::harness::main(CHECKS);
-}
 
 fn steel() -> Material {
     Material {

@@ -3,9 +3,9 @@
 //! against the exact linear fields they impose (and the reaction E A d / L), in global and
 //! in cylindrical (`*TRANSFORM`) directions. The decks are tests/data/coupled_block.inp,
 //! prescribed_bar.inp and prescribed_tube.inp (written by constraint_decks.py there); the
-//! frequencies against CalculiX are in `tests/modes_cli.rs`.
+//! frequencies against CalculiX are in `tests/program/modes_cli.rs`.
 
-mod common;
+use crate::common;
 
 use common::harness::Check;
 use squeal::analysis::modes::{real_modes, ModeBand, ModesOptions};
@@ -16,7 +16,7 @@ use squeal::model::{self, source, Model, Operators};
 use squeal::petsc::Runtime;
 use std::path::Path;
 
-const CHECKS: &[Check] = &[
+pub const CHECKS: &[Check] = &[
     Check {
         name: "a_mass_on_a_distributing_coupling_moves_with_the_block_it_is_tied_to",
         run: coupled_block_modes,
@@ -50,10 +50,6 @@ const CHECKS: &[Check] = &[
         agreement: 1e-8,
     },
 ];
-
-fn main() {
-    common::harness::main(CHECKS);
-}
 
 fn deck(name: &str) -> Result<Model, String> {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))

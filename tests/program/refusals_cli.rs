@@ -4,7 +4,7 @@
 //! banner; exits with failure; and leaves nothing in the output folder. Before, each of
 //! these ended in a raw PETSc, SLEPc or MUMPS code, a misleading sentence, or a success.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 
