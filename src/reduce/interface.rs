@@ -115,9 +115,10 @@ pub enum DiscCoupling {
 )]
 #[serde(rename_all = "kebab-case")]
 pub enum PadCoupling {
-    /// [`PadCoupling::Share`] where every share of every pad holds a face node (a share
-    /// whose nodes lie on one line reads its patch law's slope with its neighbours' nodes,
-    /// [`super::tilt::share_slope_patch`]) and the contacts carry patch laws, [`PadCoupling::Distributing`] otherwise
+    /// [`PadCoupling::Share`] where every share of every pad holds a face node, a share
+    /// whose nodes lie on one line reads its patch law's slope with its neighbours' nodes
+    /// with ties independent of the others' ([`super::tilt::share_slope_patch`]), and the
+    /// contacts carry patch laws; [`PadCoupling::Distributing`] otherwise
     /// (see [`InterfaceSettings::resolved`]). On small-caliper with 52 nodes per
     /// pad, share couplings found 16 of the full model's 18 instabilities where the paper's
     /// couplings found 13 with patch laws, and took its pad-rocking mode without friction

@@ -296,7 +296,8 @@ fn spread_condition(patch: &[([f64; 3], usize, f64)], axes: [[f64; 3]; 2]) -> Op
 /// coupling is sound, but no slope across the row can be read from it; before, one such
 /// share sent the whole interface back to the paper's couplings and point contacts, and 106
 /// nodes per pad came out worse than 52 (mean shift of the modes without friction 0.413 %
-/// against 0.163 %, issue 29). The borrowed nodes enter the slope alone: the share's force
+/// against 0.163 %, issue 29; the default still does where the borrowed slopes' ties depend
+/// on the others', [`share_ties_independence`]). The borrowed nodes enter the slope alone: the share's force
 /// still lands on its own nodes. The fit stays exact for a linear field (any patch whose
 /// nodes are off one line gives the slope of a plane), and only such edge shares overlap
 /// their neighbours.
