@@ -237,6 +237,9 @@ pub struct Assembly<'se> {
     /// A patch-law pair's contact as the reduced-interface model has it, on local nodes 0
     /// (c), 1 (d), 2 (r_p), 3 (r_d); `None`: a point contact with the cubic law.
     patches: Vec<Option<ContactPair>>,
+    /// Where each patch-law pair's tilt nodes are in q (its own after c and d, or the pair's
+    /// it reads, [`super::superelement::BoundaryTilt::shared`]).
+    tilt_offsets: Vec<Option<usize>>,
 }
 
 /// The local contact pair of a boundary pair with a patch law (see [`Assembly::patches`]).
@@ -320,6 +323,7 @@ impl<'se> Assembly<'se> {
             )));
         }
         let offsets = se.boundary_offsets();
+        let tilt_offsets = se.header.tilt_offsets();
         let mut laws = Vec::with_capacity(se.header.boundary.len());
         let mut patches = Vec::with_capacity(se.header.boundary.len());
         for (index, pair) in se.header.boundary.iter().enumerate() {
@@ -329,6 +333,11 @@ impl<'se> Assembly<'se> {
                 why,
             };
             let patch = patch_pair(pair).map_err(&invalid)?;
+            if patch.is_some() && tilt_offsets[index].is_none() {
+                return Err(invalid(
+                    "it reads the tilt nodes of a pair that has none of its own".into(),
+                ));
+            }
             if patch.is_some() && *contact != CubicContact::default() {
                 return Err(AssemblyError::InvalidContact(format!(
                     "boundary pair {index} (pair '{}') carries a patch law (reduction.tilt), \
@@ -381,6 +390,7 @@ impl<'se> Assembly<'se> {
             laws,
             offsets,
             patches,
+            tilt_offsets,
         };
         let mismatch = assembly.force_mismatch();
         if mismatch > 1e-12 {
@@ -433,9 +443,9 @@ impl<'se> Assembly<'se> {
         friction: f64,
     ) -> Option<(PointState, Option<PointContribution>)> {
         let local = self.patches[k].as_ref()?;
-        let at = self.offsets[k];
+        let at = self.local_coordinates(k);
         let u: Vec<[f64; 3]> = (0..4)
-            .map(|n| [0, 1, 2].map(|i| q[at + 3 * n + i]))
+            .map(|n| [0, 1, 2].map(|i| q[at[3 * n + i]]))
             .collect();
         let mut pair = local.clone();
         pair.settings.friction = friction;
@@ -443,6 +453,15 @@ impl<'se> Assembly<'se> {
         let evaluated = contact::evaluate(&pair, &pair.points[0], [0.0; 3], &u)
             .expect("a patch pair's local nodes are 0..4 and u holds four");
         Some(evaluated)
+    }
+
+    /// Where a patch-law pair's 12 local coordinates (c, d, r_p, r_d) are in q.
+    fn local_coordinates(&self, k: usize) -> [usize; 12] {
+        let (at, tilt) = (
+            self.offsets[k],
+            self.tilt_offsets[k].unwrap_or(self.offsets[k] + 6),
+        );
+        std::array::from_fn(|i| if i < 6 { at + i } else { tilt + i - 6 })
     }
 
     /// Every pair's state for q.
@@ -481,8 +500,8 @@ impl<'se> Assembly<'se> {
             let at = self.offsets[k];
             if let Some((_, contribution)) = self.patch_law(k, q, friction) {
                 if let Some(c) = contribution {
-                    for (ri, ci) in r[at..at + 12].iter_mut().zip(&c.residual) {
-                        *ri += ci;
+                    for (&i, ci) in self.local_coordinates(k).iter().zip(&c.residual) {
+                        r[i] += ci;
                     }
                 }
                 continue;
@@ -507,9 +526,10 @@ impl<'se> Assembly<'se> {
             let at = self.offsets[k];
             if let Some((_, contribution)) = self.patch_law(k, q, friction) {
                 if let Some(c) = contribution {
-                    for r in 0..12 {
-                        for col in 0..12 {
-                            j[(at + r, at + col)] += c.jacobian[r * 12 + col];
+                    let local = self.local_coordinates(k);
+                    for (r, &row) in local.iter().enumerate() {
+                        for (col, &column) in local.iter().enumerate() {
+                            j[(row, column)] += c.jacobian[r * 12 + col];
                         }
                     }
                 }
@@ -1188,7 +1208,12 @@ mod tests {
             pair(0, None, -2e-6, &equilibrium[0..6]),
             pair(
                 1,
-                Some(BoundaryTilt { axes, patch, arm }),
+                Some(BoundaryTilt {
+                    axes,
+                    patch,
+                    arm,
+                    shared: None,
+                }),
                 -1e-6,
                 &equilibrium[6..12],
             ),

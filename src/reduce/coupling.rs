@@ -164,8 +164,8 @@ pub fn couple_points(
 /// weighting, over the share's nodes instead of a radius. A share's translation is the
 /// weighted mean of its nodes, which one node already gives: a share of one node, or of a
 /// row of nodes on one line (an edge share of a grid about as fine as the mesh), couples
-/// soundly, and its patch law reads its slope with its neighbours' nodes
-/// ([`super::tilt::share_slope_patch`]). Errors (naming the node) when a share holds no
+/// soundly, and its patch law reads its nearest neighbour's tilt nodes
+/// ([`super::tilt::slope_owners`]). Errors (naming the node) when a share holds no
 /// face node: the grid is then finer than the mesh.
 pub fn couple_shares(
     mesh: &Mesh,

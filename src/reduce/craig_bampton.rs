@@ -78,7 +78,11 @@ pub enum SuperElementError {
 /// The boundary in super-element order: for each swept pair's point, (pair, point, c, d).
 struct Boundary {
     points: Vec<(usize, usize, usize, usize)>,
-    /// The equations in super-element order (6 per point, 12 with a patch law's tilt nodes).
+    /// Per point with a patch law whose tilt nodes an earlier point holds, that point
+    /// ([`super::superelement::BoundaryTilt::shared`]).
+    shared: Vec<Option<usize>>,
+    /// The equations in super-element order (6 per point, 12 with a patch law's own tilt
+    /// nodes).
     equations: Vec<usize>,
 }
 
@@ -130,9 +134,25 @@ fn boundary(
     }
     let dofs = &operators.dofs;
     let mut equations = Vec::with_capacity(12 * points.len());
-    for &(i, k, c, d) in &points {
+    // Each tilt node pair is on the boundary once, after the first point that reads it: a
+    // share on one line reads its neighbour's ([`super::tilt::slope_owners`]), and a
+    // coordinate twice would make the constraint modes dependent.
+    let mut holder = std::collections::HashMap::new();
+    let mut shared = Vec::with_capacity(points.len());
+    for (index, &(i, k, c, d)) in points.iter().enumerate() {
         // A patch law's tilt nodes follow c and d (the order of `super::superelement`).
-        let tilt = model.pairs[i].points[k].tilt.as_ref().map(|t| t.nodes);
+        let mut tilt = model.pairs[i].points[k].tilt.as_ref().map(|t| t.nodes);
+        let held = tilt.and_then(|nodes| match holder.entry(nodes) {
+            std::collections::hash_map::Entry::Occupied(o) => Some(*o.get()),
+            std::collections::hash_map::Entry::Vacant(v) => {
+                v.insert(index);
+                None
+            }
+        });
+        shared.push(held);
+        if held.is_some() {
+            tilt = None;
+        }
         for node in [c, d].into_iter().chain(tilt.into_iter().flatten()) {
             for component in 0..3 {
                 equations.push(
@@ -142,7 +162,11 @@ fn boundary(
             }
         }
     }
-    Ok(Boundary { points, equations })
+    Ok(Boundary {
+        points,
+        shared,
+        equations,
+    })
 }
 
 /// A super-element with its basis T (rows laid out like K's, columns in the order of
@@ -408,7 +432,7 @@ fn build<'rt>(
 
     // 5. The header.
     let mut pairs_out = Vec::with_capacity(boundary.points.len());
-    for &(i, k, c, d) in &boundary.points {
+    for (&(i, k, c, d), &shared) in boundary.points.iter().zip(&boundary.shared) {
         let pair = &model.pairs[i];
         let point = &pair.points[k];
         let state = contact::point_state(pair, point, slip.anchor(i, k), equilibrium)?;
@@ -427,6 +451,7 @@ fn build<'rt>(
                 axes: t.axes,
                 patch: t.patch.clone(),
                 arm: t.arm,
+                shared,
             }),
         });
     }

@@ -115,10 +115,9 @@ pub enum DiscCoupling {
 )]
 #[serde(rename_all = "kebab-case")]
 pub enum PadCoupling {
-    /// [`PadCoupling::Share`] where every share of every pad holds a face node, a share
-    /// whose nodes lie on one line reads its patch law's slope with its neighbours' nodes
-    /// with ties independent of the others' ([`super::tilt::share_slope_patch`]), and the
-    /// contacts carry patch laws; [`PadCoupling::Distributing`] otherwise
+    /// [`PadCoupling::Share`] where every share of every pad holds a face node (a share
+    /// whose nodes lie on one line reads its nearest neighbour's tilt nodes,
+    /// [`super::tilt::slope_owners`]) and the contacts carry patch laws; [`PadCoupling::Distributing`] otherwise
     /// (see [`InterfaceSettings::resolved`]). On small-caliper with 52 nodes per
     /// pad, share couplings found 16 of the full model's 18 instabilities where the paper's
     /// couplings found 13 with patch laws, and took its pad-rocking mode without friction
@@ -203,17 +202,15 @@ pub struct ReducedPad {
     /// k_s of each node's ties.
     pub spring_stiffness: Vec<f64>,
     /// Model node indices of each reduced contact node's tilt nodes (pad side, disc side;
-    /// [`super::tilt`]), in the grid's order; empty without patch laws.
+    /// [`super::tilt`]), in the grid's order; empty without patch laws. A share that reads
+    /// its neighbour's has the neighbour's ([`tilt::slope_owners`]).
     pub tilt_nodes: Vec<[usize; 2]>,
     /// Whether the pair is swept (a disc/pad interface, the super-elements' boundary) or a
     /// kept pair reduced too ([`super::pairs`]).
     pub swept: bool,
-    /// How many of its share couplings read their patch law's slope with their neighbours'
-    /// nodes (their own lie on one line, [`tilt::share_slope_patch`]).
+    /// How many of its share couplings read their nearest neighbour's tilt nodes (their
+    /// own face nodes lie on one line, [`tilt::slope_owners`]).
     pub borrowed_slopes: usize,
-    /// Whether those borrowed slopes' ties depend on the others (share couplings asked for
-    /// by name on such a grid): the full-size model is sound, a super-element on it is not.
-    pub dependent_ties: bool,
 }
 
 /// A reduced-interface model and what was reduced.
@@ -245,14 +242,7 @@ impl ReducedInterface {
                     (false, 0) => "; patch laws (two tilt nodes per reduced contact node)".into(),
                     (false, b) => format!(
                         "; patch laws (two tilt nodes per reduced contact node; {b} share(s) \
-                         with their face nodes on one line read their slope with their \
-                         neighbours' nodes{})",
-                        if p.dependent_ties {
-                            ", ties that depend on the others': a super-element on this \
-                             interface would have a singular reduced mass"
-                        } else {
-                            ""
-                        }
+                         with their face nodes on one line read their nearest neighbour's)"
                     ),
                 };
                 // With share couplings the radius is the disc-side patches' alone.
@@ -508,8 +498,7 @@ impl InterfaceSettings {
             } else if s.pad_coupling == PadCoupling::Share {
                 "every share of the pad faces holds a face node"
             } else {
-                "a share of the pad faces would hold no face node, or read its slope from \
-                 neighbours whose own ties fix their nodes"
+                "a share of the pad faces would hold no face node"
             };
             let (pad, laws) = (
                 if s.pad_coupling == PadCoupling::Share {
@@ -534,33 +523,10 @@ impl InterfaceSettings {
     }
 }
 
-/// Whether the slope ties of shares that borrow their neighbours' nodes are independent of
-/// the other ties ([`tilt::share_ties_independence`] above [`INDEPENDENT_TIES`]); true when
-/// no share borrows (each reads its slope from its own nodes, as before borrowing existed).
-fn slope_ties_independent(
-    couplings: &[DistributingCoupling],
-    grid: &ContactGrid,
-    positions: &[[f64; 3]],
-) -> bool {
-    let borrows = (0..couplings.len()).any(|k| {
-        tilt::share_slope_patch(couplings, grid, k, positions, grid.nodes[k].normal).1 > 0
-    });
-    !borrows || tilt::share_ties_independence(couplings, grid, positions) > INDEPENDENT_TIES
-}
-
-/// The least independence of a pad face's ties ([`tilt::share_ties_independence`]) for shares
-/// that borrow. Measured: 0.29-0.65 where no share borrows (tiny at 6 and 10 nodes per pad,
-/// small-caliper at 22 and 52, medium-caliper at 52 and 75); 0 or 1e-19 where shares borrow
-/// from neighbours whose own ties fix their nodes (tiny at 22, small-caliper at 106,
-/// medium-caliper at 90 and 106). Anything between is as good as dependent for a reduced
-/// mass that must factor.
-const INDEPENDENT_TIES: f64 = 1e-6;
-
 /// Whether every swept pad face of `model` can be split into shares of a grid of `size`,
-/// each with a face node ([`couple_shares`]) and, where shares borrow their neighbours'
-/// nodes for their slopes, with independent ties (a super-element on them must have a
-/// regular reduced mass). A pair without
-/// its surfaces is left to [`reduce_interface`] to refuse by name.
+/// each with a face node ([`couple_shares`]), some with a slope of their own for the others
+/// to read ([`tilt::slope_owners`]). A pair without its surfaces is left to
+/// [`reduce_interface`] to refuse by name.
 fn shares_fit(model: &Model, swept: &[usize], size: GridSize) -> Result<bool, ReduceError> {
     for slave in swept
         .iter()
@@ -573,7 +539,7 @@ fn shares_fit(model: &Model, swept: &[usize], size: GridSize) -> Result<bool, Re
             Err(ReduceError::ShareTooSmall { .. }) => return Ok(false),
             Err(e) => return Err(e),
         };
-        if !slope_ties_independent(&couplings, &grid, &model.mesh.nodes) {
+        if tilt::slope_owners(&couplings, &grid, &model.mesh.nodes).is_none() {
             return Ok(false);
         }
     }
@@ -676,10 +642,21 @@ pub fn reduce_interface(
             tilt_nodes: Vec::new(),
             swept: model.swept[i],
             borrowed_slopes: 0,
-            dependent_ties: settings.patch_laws()
-                && settings.pad_coupling == PadCoupling::Share
-                && !slope_ties_independent(&couplings, &grid, &mesh.nodes),
         };
+        // Whose tilt nodes each reduced contact's patch law reads: its own, or with share
+        // couplings, where a share's nodes lie on one line, its nearest neighbour's.
+        let owners: Vec<usize> = match (settings.patch_laws(), settings.pad_coupling) {
+            (true, PadCoupling::Share) => tilt::slope_owners(&couplings, &grid, &mesh.nodes)
+                .ok_or_else(|| ReduceError::Tilt {
+                    pair: name.clone(),
+                    reduced_node: 0,
+                    why: "no share of the pad face has face nodes off one line: no slope to \
+                          read"
+                        .into(),
+                })?,
+            _ => (0..couplings.len()).collect(),
+        };
+        pad.borrowed_slopes = owners.iter().enumerate().filter(|&(k, &o)| o != k).count();
         let hits = grid
             .nodes
             .iter()
@@ -725,24 +702,17 @@ pub fn reduce_interface(
                 terms: disc_tie,
                 stiffness: k_s,
             });
-            let tilt = if settings.patch_laws() {
+            // A share that reads its neighbour's tilt nodes gets its law below, once every
+            // owner has its nodes.
+            let tilt = if settings.patch_laws() && owners[k] == k {
                 let r = [reduced.node_count(), reduced.node_count() + 1];
-                let pad_patch = match settings.pad_coupling {
-                    PadCoupling::Share => {
-                        let (patch, borrowed) =
-                            tilt::share_slope_patch(&couplings, &grid, k, &mesh.nodes, hit.normal);
-                        pad.borrowed_slopes += usize::from(borrowed > 0);
-                        patch
-                    }
-                    _ => tilt::patch(coupling, &mesh.nodes),
-                };
                 let made = tilt::node_tilt(
                     &name,
                     k,
                     r,
                     hit.normal,
                     grid.plane.axes,
-                    &pad_patch,
+                    &tilt::patch(coupling, &mesh.nodes),
                     &tilt::patch(&disc_patches[k], &mesh.nodes),
                     node.area,
                     node.second_moment,
@@ -764,6 +734,9 @@ pub fn reduce_interface(
                 pad.tilt_nodes.push(r);
                 Some(made.law)
             } else {
+                if settings.patch_laws() {
+                    pad.tilt_nodes.push([usize::MAX; 2]);
+                }
                 None
             };
             // The contact node lies on the pad face by construction, found by intersecting a
@@ -791,6 +764,30 @@ pub fn reduce_interface(
             pad.disc_nodes.push(d);
             pad.disc_ties.push(disc_ties[k].clone());
             pad.spring_stiffness.push(k_s);
+        }
+        for (k, &owner) in owners.iter().enumerate() {
+            if owner == k || !settings.patch_laws() {
+                continue;
+            }
+            let law = points[owner]
+                .tilt
+                .as_ref()
+                .expect("an owner has its own tilt nodes");
+            let node = &grid.nodes[k];
+            let shared = tilt::shared_tilt(
+                law,
+                points[k].normal,
+                grid.plane.axes,
+                &node.patch,
+                pair.penalty,
+            )
+            .ok_or_else(|| ReduceError::Tilt {
+                pair: name.clone(),
+                reduced_node: k,
+                why: "its normal lies in the grid's plane".into(),
+            })?;
+            pad.tilt_nodes[k] = shared.nodes;
+            points[k].tilt = Some(shared);
         }
         reduced.pairs[i] = contact::node_to_node(pair.settings.clone(), pair.penalty, points)
             .map_err(|e| ReduceError::InvalidSurface {
@@ -1222,9 +1219,9 @@ mod tests {
             Some(false),
         );
         // tiny's pad faces (65 face nodes) hold 22 shares, not 52: a share of that grid
-        // holds no face node (`couple_shares` refuses it). At 22, 10 shares hold fewer
-        // than three nodes or one row, and their neighbours' own ties fix the nodes they
-        // would read their slopes from: the default takes the paper's interface.
+        // holds no face node (`couple_shares` refuses it). At 22, some shares hold fewer
+        // than three nodes or one row: they read their neighbours' tilt nodes, and the
+        // default takes squeal's interface.
         let face = &model.mesh.surfaces["pad_inboard_friction_face"];
         let shares = |n: usize| {
             couple_shares(
@@ -1236,7 +1233,7 @@ mod tests {
         assert!(shares(22).is_ok());
         assert!(matches!(shares(52), Err(ReduceError::ShareTooSmall { .. })));
         assert_eq!(chosen(&auto(6)), squeals);
-        assert_eq!(chosen(&auto(22)), papers);
+        assert_eq!(chosen(&auto(22)), squeals);
         assert_eq!(chosen(&auto(52)), papers);
         // Point contacts asked for: the paper's couplings go with them.
         let point = InterfaceSettings {
@@ -1247,7 +1244,7 @@ mod tests {
         // Patch laws asked for where shares do not fit: the paper's couplings carry them.
         let patch = InterfaceSettings {
             tilt: Some(true),
-            ..auto(22)
+            ..auto(52)
         };
         assert_eq!(
             chosen(&patch),
@@ -1291,31 +1288,22 @@ mod tests {
             said.starts_with("chosen by default: share couplings with patch laws (every share"),
             "{said}"
         );
-        let said = reduce_interface(&model, &auto(22)).unwrap().summary();
-        assert!(
-            said.starts_with(
-                "chosen by default: the paper's distributing couplings with point \
-                 contacts (a share of the pad faces would hold no face node, or read its \
-                 slope from neighbours whose own ties fix their nodes)"
-            ),
-            "{said}"
-        );
-        // Share couplings asked for by name there: the shares that cannot read a slope of
-        // their own borrow, and the log says that a super-element would not factor.
-        let asked = InterfaceSettings {
-            pad_coupling: PadCoupling::Share,
-            ..auto(22)
-        };
-        let reduced = reduce_interface(&model, &asked).unwrap();
+        // At 22 nodes per pad some shares hold one row of face nodes: they read their
+        // nearest neighbour's tilt nodes, and the default still takes shares.
+        let reduced = reduce_interface(&model, &auto(22)).unwrap();
         assert!(reduced
             .pads
             .iter()
-            .all(|p| p.borrowed_slopes > 0 && p.dependent_ties));
+            .all(|p| p.pad_coupling == PadCoupling::Share
+                && p.borrowed_slopes > 0
+                && p.tilt_nodes.len() == p.grid.count()));
         let said = reduced.summary();
-        assert!(
-            said.contains("read their slope with their neighbours' nodes, ties that depend"),
-            "{said}"
-        );
+        assert!(said.contains("read their nearest neighbour's"), "{said}");
+        // Each borrower's law reads an owner's tilt nodes: no more tilt nodes than owners.
+        for p in &reduced.pads {
+            let distinct: std::collections::BTreeSet<_> = p.tilt_nodes.iter().collect();
+            assert_eq!(distinct.len(), p.grid.count() - p.borrowed_slopes);
+        }
         let given = reduce_interface(&model, &InterfaceSettings::paper(GridSize::Count(6)));
         assert!(!given.unwrap().summary().contains("chosen by default"));
     }

@@ -9,7 +9,9 @@
 //!   offset o_k ([`SuperElement::boundary_offsets`]), the three displacement components of
 //!   the pad contact node c_k, then of the disc node d_k: q[o_k..o_k+3] = u(c_k),
 //!   q[o_k+3..o_k+6] = u(d_k); a pair with a patch law ([`BoundaryTilt`]) then has its tilt
-//!   nodes: q[o_k+6..o_k+9] = u(r_p), q[o_k+9..o_k+12] = u(r_d). 6 or 12 per pair;
+//!   nodes: q[o_k+6..o_k+9] = u(r_p), q[o_k+9..o_k+12] = u(r_d), unless it reads another
+//!   pair's ([`BoundaryTilt::shared`]: a share whose own nodes lie on one line). 6 or 12 per
+//!   pair;
 //! - then the fixed-interface modes (mass-normalised, ascending), and last the load's static
 //!   correction (the interior response to the external load with the boundary held), which
 //!   puts the super-element's own equilibrium exactly in the span of T so that eq. 5 holds
@@ -49,7 +51,8 @@ pub struct BoundaryPair {
 }
 
 /// A boundary pair's patch law without its nodes (they are the pair's boundary coordinates
-/// 6..12): what [`crate::contact::Tilt`] holds besides them.
+/// 6..12, or another pair's, [`Self::shared`]): what [`crate::contact::Tilt`] holds besides
+/// them.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct BoundaryTilt {
     /// Unit in-plane axes e_1, e_2 (orthogonal to the normal).
@@ -58,15 +61,20 @@ pub struct BoundaryTilt {
     pub patch: Vec<([f64; 2], f64)>,
     /// theta = e . (u_rp - u_rd) / arm.
     pub arm: f64,
+    /// The boundary pair (index in [`SuperElementHeader::boundary`]) whose tilt nodes this
+    /// one's law reads: a share of the pad face on one line has no slope of its own and
+    /// takes its nearest neighbour's ([`crate::reduce::tilt::slope_owners`]); `None`: its
+    /// own, at q[o_k+6..o_k+12]. The owner holds its own.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shared: Option<usize>,
 }
 
 impl BoundaryPair {
-    /// Its reduced coordinates: 6 (c, d), or 12 with tilt nodes (c, d, r_p, r_d).
+    /// Its reduced coordinates: 6 (c, d), or 12 with tilt nodes of its own (c, d, r_p, r_d).
     pub fn width(&self) -> usize {
-        if self.tilt.is_some() {
-            12
-        } else {
-            6
+        match &self.tilt {
+            Some(t) if t.shared.is_none() => 12,
+            _ => 6,
         }
     }
 }
@@ -137,6 +145,25 @@ impl SuperElementHeader {
                 let start = *at;
                 *at += b.width();
                 Some(start)
+            })
+            .collect()
+    }
+
+    /// Where each boundary pair's patch law reads its tilt nodes r_p, r_d in q (6
+    /// coordinates from there): its own after c and d, or its owner's
+    /// ([`BoundaryTilt::shared`]); `None` for a point contact, or a share naming a pair that
+    /// has no tilt nodes of its own (which [`crate::reduce::superelement_file`] refuses).
+    pub fn tilt_offsets(&self) -> Vec<Option<usize>> {
+        let offsets = self.boundary_offsets();
+        self.boundary
+            .iter()
+            .zip(&offsets)
+            .map(|(b, &at)| match b.tilt.as_ref()?.shared {
+                None => Some(at + 6),
+                Some(owner) => {
+                    let o = self.boundary.get(owner)?;
+                    (o.tilt.as_ref()?.shared.is_none()).then(|| offsets[owner] + 6)
+                }
             })
             .collect()
     }

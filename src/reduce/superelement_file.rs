@@ -220,6 +220,19 @@ fn check_values(h: &crate::reduce::superelement::SuperElementHeader) -> Result<(
             if !positive(t.arm) {
                 return bad(format!("its patch's arm {} must be > 0", t.arm));
             }
+            if let Some(owner) = t.shared {
+                let owns = h
+                    .boundary
+                    .get(owner)
+                    .and_then(|o| o.tilt.as_ref())
+                    .is_some_and(|o| o.shared.is_none());
+                if owner == k || !owns {
+                    return bad(format!(
+                        "it reads the tilt nodes of boundary pair {owner}, which has none of \
+                         its own"
+                    ));
+                }
+            }
             let area: f64 = t.patch.iter().map(|p| p.1).sum();
             let sane = t
                 .patch
@@ -675,5 +688,56 @@ mod tests {
         se.header.friction = f64::NAN;
         assert!(write(&path, &se).is_err());
         assert!(!path.exists());
+    }
+
+    /// Patch laws whose tilt nodes one pair holds and another reads (a share on one line,
+    /// `reduce::tilt::slope_owners`): the reader takes no coordinates of its own, the file
+    /// round-trips, and a reader of a pair without tilt nodes of its own is refused.
+    #[test]
+    fn a_pair_reading_anothers_tilt_nodes_round_trips_and_a_bad_owner_is_refused() {
+        use crate::reduce::superelement::BoundaryTilt;
+        let tilt = |shared| BoundaryTilt {
+            axes: [[1.0, 0.0, 0.0], [0.0, 0.8, -0.6]],
+            patch: vec![
+                ([1e-3, -2e-3], 1.0 / 3.0 * 1e-4),
+                ([0.0, 1e-3], 1.0 / 3.0 * 1e-4),
+            ],
+            arm: 2.5e-3,
+            shared,
+        };
+        let with = |first: Option<BoundaryTilt>, second: Option<BoundaryTilt>| {
+            let mut se = sample();
+            se.header.boundary[0].tilt = first;
+            se.header.boundary[1].tilt = second;
+            let n = se.header.boundary_size() + se.header.modes + 1;
+            se.header.size = n;
+            se.stiffness = faer::Mat::from_fn(n, n, |i, j| (i + 2 * j) as f64);
+            se.mass = faer::Mat::from_fn(n, n, |i, j| (i * j) as f64 + 0.5);
+            se.load = (0..n).map(|k| k as f64).collect();
+            se.equilibrium = (0..n).map(|k| 1e-6 * k as f64).collect();
+            se
+        };
+        let se = with(Some(tilt(None)), Some(tilt(Some(0))));
+        // 12 for the holder, 6 for the reader, which reads the holder's at 6.
+        assert_eq!(se.header.boundary_size(), 18);
+        assert_eq!(se.header.tilt_offsets(), vec![Some(6), Some(6)]);
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("shared.se");
+        write(&path, &se).unwrap();
+        let back = read(&path, Some("0123abcd")).unwrap();
+        assert_eq!(back.header, se.header);
+        assert_eq!(bits(&back), bits(&se));
+        // Itself, a pair without tilt nodes, a pair that reads another's, a pair past the end.
+        for (first, second) in [
+            (Some(tilt(None)), Some(tilt(Some(1)))),
+            (None, Some(tilt(Some(0)))),
+            (Some(tilt(Some(1))), Some(tilt(Some(0)))),
+            (Some(tilt(None)), Some(tilt(Some(2)))),
+        ] {
+            let bad = dir.path().join("bad.se");
+            let err = write(&bad, &with(first, second)).unwrap_err().to_string();
+            assert!(err.contains("tilt nodes of boundary pair"), "{err}");
+            assert!(!bad.exists());
+        }
     }
 }

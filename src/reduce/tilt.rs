@@ -228,13 +228,7 @@ pub fn node_tilt(
         }
     }
     // The share's offsets, in the grid plane's axes, along e.
-    let patch = share
-        .iter()
-        .map(|&(xi, a)| {
-            let v = crate::vector3::add(scale(xi[0], plane_axes[0]), scale(xi[1], plane_axes[1]));
-            ([dot(v, e[0]), dot(v, e[1])], a)
-        })
-        .collect();
+    let patch = share_offsets(share, plane_axes, e);
     Ok(Some(NodeTilt {
         law: Tilt {
             nodes,
@@ -260,109 +254,111 @@ pub fn patch(
         .collect()
 }
 
-/// The largest condition number of a borrowed slope patch's in-plane spread: a share that
-/// borrows lay about on a line, and the first neighbour may extend that line (the next edge
-/// share) rather than cross it; the slope across it is then read from a patch nearly as
-/// thin, round-off amplified by the condition number. 100 is a patch ten times longer than
-/// wide; two rows of nodes along an edge share give about 10.
-const BORROWED_CONDITION: f64 = 100.0;
-
-/// The condition number of the weighted in-plane spread G of a patch about its weighted
-/// centre (`trace^2 / det`, about l1 / l2 when l1 >> l2), `None` when G is singular.
-fn spread_condition(patch: &[([f64; 3], usize, f64)], axes: [[f64; 3]; 2]) -> Option<f64> {
-    let centre = weighted_centre(patch)?;
-    let mut g = [[0.0; 2]; 2];
-    for &(x, _, w) in patch {
-        let d = sub(x, centre);
-        let xi = [dot(d, axes[0]), dot(d, axes[1])];
-        for a in 0..2 {
-            for b in 0..2 {
-                g[a][b] += w * xi[a] * xi[b];
-            }
-        }
-    }
-    let (trace, det) = (g[0][0] + g[1][1], g[0][0] * g[1][1] - g[0][1] * g[1][0]);
-    (det > 0.0).then(|| trace * trace / det)
-}
-
-/// The patch a share's tilt node reads its slope and twist from (`(position, node, weight)`,
-/// each node weighted by its tributary area): share `k`'s own nodes where they give both,
-/// else with the nodes of the other shares added, nearest grid point first, one share at a
-/// time, until they give one whose spread is no thinner than [`BORROWED_CONDITION`]. Returns
-/// the patch and how many shares it borrowed from.
+/// Whose tilt nodes each share's patch law reads, in the grid's order: its own where its
+/// face nodes give a slope and a twist (they are off one line), else the nearest such
+/// share's (grid points in the plane, the lower index on a tie). `None` when no share of
+/// the face gives one.
 ///
 /// Why. On a grid about as fine as the mesh an edge share can hold one row of face nodes
 /// (medium-caliper at 90 and 106 nodes per pad: 4 nodes on one line). Its translation
-/// coupling is sound, but no slope across the row can be read from it; before, one such
-/// share sent the whole interface back to the paper's couplings and point contacts, and 106
-/// nodes per pad came out worse than 52 (mean shift of the modes without friction 0.413 %
-/// against 0.163 %, issue 29; the default still does where the borrowed slopes' ties depend
-/// on the others', [`share_ties_independence`]). The borrowed nodes enter the slope alone: the share's force
-/// still lands on its own nodes. The fit stays exact for a linear field (any patch whose
-/// nodes are off one line gives the slope of a plane), and only such edge shares overlap
-/// their neighbours.
-pub fn share_slope_patch(
+/// coupling is sound, but no slope across the row can be read from its nodes. Read with its
+/// neighbours' nodes (squeal's first answer), its slope tie binds nodes their own ties
+/// already fix: the ties are dependent, the tilt node's constraint mode moves no mass and a
+/// super-element's reduced mass is singular (measured: `tiny` at 22 nodes per pad, 19 of 44
+/// shares borrowing, the Cholesky failed; the ties' independence 0 or 1e-19 on every grid
+/// where shares borrowed). Reading the nearest neighbour's tilt nodes adds no tie at all: the
+/// ties stay those of the shares with a slope of their own, on disjoint nodes, independent
+/// by construction. The share's own law still integrates the penalty over its own part of
+/// the face, at the neighbour's tilt (the pad and disc patches there move about as its own).
+pub fn slope_owners(
     couplings: &[DistributingCoupling],
     grid: &ContactGrid,
-    k: usize,
     positions: &[[f64; 3]],
-    n: [f64; 3],
-) -> (Vec<([f64; 3], usize, f64)>, usize) {
-    // Share weights add up to 1 over each share: times the share's area, the nodes' areas.
-    let nodes_of = |j: usize| {
-        couplings[j]
-            .nodes
-            .iter()
-            .map(move |c| (positions[c.node], c.node, c.weight * grid.nodes[j].area))
-    };
-    let mut patch: Vec<_> = nodes_of(k).collect();
-    let Some(e) = axes(grid.plane.axes, n) else {
-        return (patch, 0);
-    };
-    // Its own nodes where they give a slope at all (what every share did before shares
-    // could borrow); a borrowed patch until it gives a well-conditioned one.
-    let reads = |patch: &[([f64; 3], usize, f64)], bound: f64| {
-        slope_terms(patch, e, n).is_some()
-            && twist_terms(patch, n).is_some()
-            && spread_condition(patch, e).is_some_and(|c| c <= bound)
-    };
-    if reads(&patch, COLLINEAR) {
-        return (patch, 0);
-    }
-    let at = grid.nodes[k].plane;
-    let mut others: Vec<(f64, usize)> = (0..couplings.len())
-        .filter(|&j| j != k)
-        .map(|j| {
-            let q = grid.nodes[j].plane;
-            ((q[0] - at[0]).powi(2) + (q[1] - at[1]).powi(2), j)
+) -> Option<Vec<usize>> {
+    let reads: Vec<bool> = couplings
+        .iter()
+        .zip(&grid.nodes)
+        .map(|(c, node)| {
+            let own = patch(c, positions);
+            axes(grid.plane.axes, node.normal).is_some_and(|e| {
+                slope_terms(&own, e, node.normal).is_some()
+                    && twist_terms(&own, node.normal).is_some()
+            })
         })
         .collect();
-    others.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-    for (borrowed, &(_, j)) in others.iter().enumerate() {
-        patch.extend(nodes_of(j));
-        if reads(&patch, BORROWED_CONDITION) {
-            return (patch, borrowed + 1);
-        }
-    }
-    (patch, others.len())
+    (0..couplings.len())
+        .map(|k| {
+            if reads[k] {
+                return Some(k);
+            }
+            let at = grid.nodes[k].plane;
+            (0..couplings.len())
+                .filter(|&j| reads[j])
+                .map(|j| {
+                    let q = grid.nodes[j].plane;
+                    ((q[0] - at[0]).powi(2) + (q[1] - at[1]).powi(2), j)
+                })
+                .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)))
+                .map(|(_, j)| j)
+        })
+        .collect()
 }
 
-/// The smallest singular value over the largest of the ties a pad face's shares put on its
-/// nodes' normal displacements (rows scaled to unit length): each share's mean (its
-/// translation tie's normal part) and its two slopes, read from its slope patch
-/// ([`share_slope_patch`]). 0 when the shares put more such ties than the face has nodes.
+/// The patch law of a share that reads another's tilt nodes ([`slope_owners`]): the
+/// owner's nodes and arm (its tilt nodes hold arm times its slopes), the share's own axes
+/// (the in-plane axes at its normal `n`: the owner's where the face is flat), its own part
+/// of the pad face (`share`, offsets in the grid plane's axes `plane_axes`, and areas) and
+/// the pair's penalty per unit area.
+pub fn shared_tilt(
+    owner: &Tilt,
+    n: [f64; 3],
+    plane_axes: [[f64; 3]; 2],
+    share: &[([f64; 2], f64)],
+    penalty: f64,
+) -> Option<Tilt> {
+    let e = axes(plane_axes, n)?;
+    Some(Tilt {
+        nodes: owner.nodes,
+        axes: e,
+        patch: share_offsets(share, plane_axes, e),
+        arm: owner.arm,
+        penalty,
+    })
+}
+
+/// A share's quadrature points (offsets in the grid plane's axes, areas) with their offsets
+/// along the in-plane axes `e`.
+fn share_offsets(
+    share: &[([f64; 2], f64)],
+    plane_axes: [[f64; 3]; 2],
+    e: [[f64; 3]; 2],
+) -> Vec<([f64; 2], f64)> {
+    share
+        .iter()
+        .map(|&(xi, a)| {
+            let v = crate::vector3::add(scale(xi[0], plane_axes[0]), scale(xi[1], plane_axes[1]));
+            ([dot(v, e[0]), dot(v, e[1])], a)
+        })
+        .collect()
+}
+
+/// The smallest singular value over the largest of the ties the shares of a pad face that
+/// read their own slopes ([`slope_owners`]) put on its nodes' normal displacements (rows
+/// scaled to unit length): each share's mean (its translation tie's normal part), and each
+/// owner's two slopes. 0 when they are more than the face has nodes.
 ///
 /// Why. Each tie holds a boundary coordinate of a super-element (a reduced contact node or a
 /// tilt node); a tie that the others already fix has a constraint mode that moves no mass
-/// (its tilt node is massless), and the super-element's reduced mass is singular: measured
-/// on `tiny` with 22 nodes per pad (65 face nodes, 66 such ties; 19 shares of 44 borrowed),
-/// the single super-element's Cholesky failed. A share that borrows reads its slope across
-/// its line from its neighbours' nodes, which their own three ties may already fix.
+/// (its tilt node is massless), and the super-element's reduced mass is singular.
+#[cfg(test)]
 pub fn share_ties_independence(
     couplings: &[DistributingCoupling],
     grid: &ContactGrid,
     positions: &[[f64; 3]],
 ) -> f64 {
+    let Some(owners) = slope_owners(couplings, grid, positions) else {
+        return 0.0;
+    };
     let mut columns = std::collections::BTreeMap::new();
     for c in couplings {
         for node in &c.nodes {
@@ -370,35 +366,41 @@ pub fn share_ties_independence(
             columns.entry(node.node).or_insert(next);
         }
     }
-    let rows = 3 * couplings.len();
-    if rows > columns.len() {
-        return 0.0;
-    }
-    let mut m = faer::Mat::<f64>::zeros(rows, columns.len());
+    let mut rows: Vec<Vec<f64>> = Vec::new();
     for (k, c) in couplings.iter().enumerate() {
         let n = grid.nodes[k].normal;
+        let mut mean = vec![0.0; columns.len()];
         for node in &c.nodes {
-            m[(3 * k, columns[&node.node])] += node.weight;
+            mean[columns[&node.node]] += node.weight;
         }
-        let (patch, _) = share_slope_patch(couplings, grid, k, positions, n);
-        let Some(terms) = axes(grid.plane.axes, n).and_then(|e| slope_terms(&patch, e, n)) else {
+        rows.push(mean);
+        if owners[k] != k {
+            continue;
+        }
+        let own = patch(c, positions);
+        let Some(terms) = axes(grid.plane.axes, n).and_then(|e| slope_terms(&own, e, n)) else {
             return 0.0;
         };
-        for (a, terms) in terms.iter().enumerate() {
+        for terms in &terms {
+            let mut row = vec![0.0; columns.len()];
             for &(node, g) in terms {
-                m[(3 * k + 1 + a, columns[&node])] += dot(g, n);
+                row[columns[&node]] += dot(g, n);
             }
+            rows.push(row);
         }
     }
-    for i in 0..rows {
-        let norm = (0..m.ncols())
-            .map(|j| m[(i, j)].powi(2))
-            .sum::<f64>()
-            .sqrt();
+    if rows.len() > columns.len() {
+        return 0.0;
+    }
+    let mut m = faer::Mat::<f64>::zeros(rows.len(), columns.len());
+    for (i, row) in rows.iter().enumerate() {
+        let norm = row.iter().map(|v| v * v).sum::<f64>().sqrt();
         if norm == 0.0 {
             return 0.0;
         }
-        (0..m.ncols()).for_each(|j| m[(i, j)] /= norm);
+        for (j, v) in row.iter().enumerate() {
+            m[(i, j)] = v / norm;
+        }
     }
     match m.singular_values() {
         Ok(s) => {
@@ -490,10 +492,11 @@ mod tests {
     }
 
     /// A share whose face nodes lie on one line (an edge share of a grid about as fine as
-    /// the mesh) reads its slope with the nearest shares' nodes, and reads it exactly; the
-    /// other shares read theirs from their own nodes alone.
+    /// the mesh) reads its nearest neighbour's tilt nodes, and the ties of the shares that
+    /// read their own stay independent; a borrower's law reads the owner's tilt with its own
+    /// axes and arm, which for a linear field over a flat face is its own tilt exactly.
     #[test]
-    fn a_share_on_one_line_borrows_its_neighbours_nodes_for_its_slope() {
+    fn a_share_on_one_line_reads_its_nearest_neighbours_tilt_nodes() {
         use crate::mesh::{block::block, Material};
         use crate::reduce::{coupling::couple_shares, grid::isometric_grid, GridSize};
         let material = Material {
@@ -514,40 +517,77 @@ mod tests {
             let Ok(couplings) = couple_shares(&mesh, surface, &grid) else {
                 continue;
             };
-            let axes = axes(grid.plane.axes, n).unwrap();
-            for k in 0..couplings.len() {
+            let e = axes(grid.plane.axes, n).unwrap();
+            let owners = slope_owners(&couplings, &grid, &mesh.nodes).expect("a share reads");
+            let reads = |k: usize| {
                 let own = patch(&couplings[k], &mesh.nodes);
-                let (slope_patch, borrowed) =
-                    share_slope_patch(&couplings, &grid, k, &mesh.nodes, n);
-                let reads_alone =
-                    slope_terms(&own, axes, n).is_some() && twist_terms(&own, n).is_some();
-                assert_eq!(borrowed == 0, reads_alone, "h {h}, share {k}");
-                // The share's own nodes first, then whole shares.
-                assert!(slope_patch.len() >= own.len());
-                assert!(slope_patch.iter().zip(&own).all(|(a, b)| a.1 == b.1));
-                borrowing += usize::from(borrowed > 0);
+                slope_terms(&own, e, n).is_some() && twist_terms(&own, n).is_some()
+            };
+            for (k, &owner) in owners.iter().enumerate() {
+                assert_eq!(owner == k, reads(k), "h {h}, share {k}");
                 assert!(
-                    borrowed == 0
-                        || spread_condition(&slope_patch, axes).unwrap() <= BORROWED_CONDITION
+                    reads(owner),
+                    "h {h}: share {k} reads {owner}, which has no slope"
                 );
-                let terms = slope_terms(&slope_patch, axes, n).expect("a slope");
-                // A linear normal field of gradient `grad`, plus an in-plane motion that must
-                // not count; its slope along each of the patch's axes.
-                let grad = [0.7, -1.9, 0.0];
-                for a in 0..2 {
-                    let s: f64 = terms[a]
+                // No reader is nearer than the owner.
+                let d = |j: usize| {
+                    let (p, q) = (grid.nodes[k].plane, grid.nodes[j].plane);
+                    (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2)
+                };
+                assert!((0..owners.len()).all(|j| !reads(j) || d(j) >= d(owner)));
+                borrowing += usize::from(owner != k);
+            }
+            // The ties of the owners: measured 0.29-0.65 on the presets' grids where every
+            // share reads its own; a dependent set has 0 to round-off.
+            let independence = share_ties_independence(&couplings, &grid, &mesh.nodes);
+            assert!(independence > 1e-3, "h {h}: independence {independence:e}");
+
+            // A tilt of the whole face: each owner's tilt nodes hold arm times its slope, and
+            // every share's law, its own or borrowed, reads that slope.
+            let grad = [0.7, -1.9];
+            let u = |x: [f64; 3]| [0.2 * x[1], -0.1, 0.3 + grad[0] * x[0] + grad[1] * x[1]];
+            for (k, &owner) in owners.iter().enumerate() {
+                let node = &grid.nodes[owner];
+                let own = patch(&couplings[owner], &mesh.nodes);
+                let made = node_tilt(
+                    "p",
+                    owner,
+                    [0, 1],
+                    n,
+                    grid.plane.axes,
+                    &own,
+                    &own,
+                    node.area,
+                    node.second_moment,
+                    &node.patch,
+                    1.0,
+                    1.0,
+                )
+                .unwrap()
+                .expect("an owner has a second moment");
+                // The tilt node's displacement that satisfies the owner's pad ties.
+                let mut rp = [0.0; 3];
+                for tie in made.ties.iter().take(3) {
+                    let axis = tie.terms[0].1;
+                    let held: f64 = tie.terms[1..]
                         .iter()
-                        .map(|&(j, g)| {
-                            let w = 0.3 + dot(grad, mesh.nodes[j]);
-                            dot(g, [0.2 * mesh.nodes[j][1], -0.1, w])
-                        })
+                        .map(|&(j, g)| dot(g, u(mesh.nodes[j])))
                         .sum();
-                    let expected = dot(grad, axes[a]);
-                    // Round-off: eps times the patch's condition (<= 100 when borrowed) times
-                    // the field's size over the patch's (~ 2 / 0.05), summed over ~30 nodes.
+                    rp = crate::vector3::add(rp, scale(-held, axis));
+                }
+                let law = if owner == k {
+                    made.law.clone()
+                } else {
+                    let node = &grid.nodes[k];
+                    shared_tilt(&made.law, n, grid.plane.axes, &node.patch, 1.0).unwrap()
+                };
+                assert_eq!(law.nodes, made.law.nodes);
+                for a in 0..2 {
+                    let theta = dot(law.axes[a], rp) / law.arm;
+                    let expected = grad[0] * law.axes[a][0] + grad[1] * law.axes[a][1];
                     assert!(
-                        (s - expected).abs() < 1e-10,
-                        "h {h}, share {k}: {s} {expected}"
+                        (theta - expected).abs() < 1e-12,
+                        "h {h}, share {k}: {theta} {expected}"
                     );
                 }
             }
