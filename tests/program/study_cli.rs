@@ -93,27 +93,36 @@ fn cached(stdout: &str) -> usize {
 
 /// Every eigenvalue of every stage's sweep, in stage order: what must not change when a run
 /// is interrupted and resumed.
-fn all_eigenvalues(out: &Path) -> Vec<f64> {
+fn all_eigenvalues(out: &Path) -> Vec<(f64, f64)> {
     let mut v = Vec::new();
     for stage in ["full", "reduced-22", "superelements-single-22"] {
         let s = json(&out.join(stage).join("sweep.json"));
         for p in s["points"].as_array().unwrap() {
-            for (f, a, _) in common::eigenvalues_of(p) {
-                v.extend([f, a]);
-            }
+            v.extend(
+                common::eigenvalues_of(p)
+                    .into_iter()
+                    .map(|(f, a, _)| (f, a)),
+            );
         }
     }
     v
 }
 
 /// Eigenvalues recomputed from the same state: equal to the round-off of the solves (a
-/// rerun's MUMPS ordering may differ), far below any physical difference.
-fn same_numbers(a: &[f64], b: &[f64]) {
+/// rerun's MUMPS ordering may differ), far below any physical difference. Each eigenvalue
+/// lambda = a + i 2 pi f (frequency f in Hz, real part a in 1/s) as a whole: a solve's
+/// round-off moves it by a fraction of |lambda|, and its real part, often a thousandth of
+/// it, by as much in absolute terms (a real part of -108.2 1/s came back 2.8e-7 off, 2.6e-9
+/// of itself and some 1e-11 of |lambda|, when the real part was compared alone).
+fn same_numbers(a: &[(f64, f64)], b: &[(f64, f64)]) {
     assert_eq!(a.len(), b.len());
-    for (x, y) in a.iter().zip(b) {
+    let omega = |f: f64| 2.0 * std::f64::consts::PI * f;
+    for (&(fa, ra), &(fb, rb)) in a.iter().zip(b) {
+        let size = ra.hypot(omega(fa)).max(1.0);
+        let moved = (ra - rb).hypot(omega(fa) - omega(fb));
         assert!(
-            (x - y).abs() <= 1e-9 * x.abs().max(1.0),
-            "recomputed {y} against {x}"
+            moved <= 1e-9 * size,
+            "recomputed {rb} 1/s, {fb} Hz against {ra} 1/s, {fa} Hz"
         );
     }
 }
