@@ -117,11 +117,11 @@ pub enum DiscCoupling {
 pub enum PadCoupling {
     /// [`PadCoupling::Share`] where every share of every pad holds a face node (a share
     /// whose nodes lie on one line reads its nearest neighbour's tilt nodes,
-    /// [`super::tilt::slope_owners`]) and the contacts carry patch laws; [`PadCoupling::Distributing`] otherwise
-    /// (see [`InterfaceSettings::resolved`]). On small-caliper with 52 nodes per
-    /// pad, share couplings found 16 of the full model's 18 instabilities where the paper's
-    /// couplings found 13 with patch laws, and took its pad-rocking mode without friction
-    /// from -1.93 % to -0.03 % (issue 29's note).
+    /// [`super::tilt::slope_owners`]) and the contacts carry patch laws;
+    /// [`PadCoupling::Distributing`] otherwise (see [`InterfaceSettings::resolved`]). On
+    /// small-caliper with 52 nodes per pad, share couplings found 16 of the full model's 18
+    /// instabilities where the paper's couplings found 13 with patch laws, and took its
+    /// pad-rocking mode without friction from -1.93 % to -0.03 % (issue 29's note).
     #[default]
     Auto,
     /// To the pad face's nodes within the radius of influence, by the weighting's profile
