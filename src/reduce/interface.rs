@@ -115,8 +115,8 @@ pub enum DiscCoupling {
 )]
 #[serde(rename_all = "kebab-case")]
 pub enum PadCoupling {
-    /// [`PadCoupling::Share`] where every share of every pad holds a face node (a share
-    /// whose nodes lie on one line reads its nearest neighbour's tilt nodes,
+    /// [`PadCoupling::Share`] where every share of every pad holds face nodes off one line
+    /// (asked for by name, a share on one line reads its nearest neighbour's tilt nodes,
     /// [`super::tilt::slope_owners`]) and the contacts carry patch laws;
     /// [`PadCoupling::Distributing`] otherwise (see [`InterfaceSettings::resolved`]). On
     /// small-caliper with 52 nodes per pad, share couplings found 16 of the full model's 18
@@ -498,7 +498,7 @@ impl InterfaceSettings {
             } else if s.pad_coupling == PadCoupling::Share {
                 "every share of the pad faces holds a face node"
             } else {
-                "a share of the pad faces would hold no face node"
+                "a share of the pad faces would hold no face node, or lie on one line"
             };
             let (pad, laws) = (
                 if s.pad_coupling == PadCoupling::Share {
@@ -524,9 +524,9 @@ impl InterfaceSettings {
 }
 
 /// Whether every swept pad face of `model` can be split into shares of a grid of `size`,
-/// each with a face node ([`couple_shares`]), some with a slope of their own for the others
-/// to read ([`tilt::slope_owners`]). A pair without its surfaces is left to
-/// [`reduce_interface`] to refuse by name.
+/// each with a face node ([`couple_shares`]) and a slope of its own
+/// ([`tilt::slope_owners`]). A pair without its surfaces is left to [`reduce_interface`] to
+/// refuse by name.
 fn shares_fit(model: &Model, swept: &[usize], size: GridSize) -> Result<bool, ReduceError> {
     for slave in swept
         .iter()
@@ -539,7 +539,18 @@ fn shares_fit(model: &Model, swept: &[usize], size: GridSize) -> Result<bool, Re
             Err(ReduceError::ShareTooSmall { .. }) => return Ok(false),
             Err(e) => return Err(e),
         };
-        if tilt::slope_owners(&couplings, &grid, &model.mesh.nodes).is_none() {
+        let Some(owners) = tilt::slope_owners(&couplings, &grid, &model.mesh.nodes) else {
+            return Ok(false);
+        };
+        // Not by default where a share reads a neighbour's tilt nodes, yet: on `tiny` at 22
+        // nodes per pad (examples/reduced_interface.rs, mu 0.7) the reduced model's mode at
+        // 3106.9 Hz, real part +103 1/s, came out flagged rigid, so not unstable. The
+        // rigid-body level is 1e-9 max K_ii / M_ii (`analysis::rigid`): some face node's K_ii
+        // must have grown by the tilt ties of a thin share that still reads its own slope
+        // (nodes about on a line, below `tilt`'s collinearity bound), which the paper's
+        // interface, the default there before, does not have. Until that is fixed, such
+        // grids keep the paper's interface; share couplings asked for by name build them.
+        if owners.iter().enumerate().any(|(k, &owner)| owner != k) {
             return Ok(false);
         }
     }
@@ -1220,8 +1231,8 @@ mod tests {
         );
         // tiny's pad faces (65 face nodes) hold 22 shares, not 52: a share of that grid
         // holds no face node (`couple_shares` refuses it). At 22, some shares hold fewer
-        // than three nodes or one row: they read their neighbours' tilt nodes, and the
-        // default takes squeal's interface.
+        // than three nodes or one row: asked for by name, they read their neighbours' tilt
+        // nodes; the default keeps the paper's interface there (see `shares_fit`).
         let face = &model.mesh.surfaces["pad_inboard_friction_face"];
         let shares = |n: usize| {
             couple_shares(
@@ -1233,7 +1244,7 @@ mod tests {
         assert!(shares(22).is_ok());
         assert!(matches!(shares(52), Err(ReduceError::ShareTooSmall { .. })));
         assert_eq!(chosen(&auto(6)), squeals);
-        assert_eq!(chosen(&auto(22)), squeals);
+        assert_eq!(chosen(&auto(22)), papers);
         assert_eq!(chosen(&auto(52)), papers);
         // Point contacts asked for: the paper's couplings go with them.
         let point = InterfaceSettings {
@@ -1288,9 +1299,13 @@ mod tests {
             said.starts_with("chosen by default: share couplings with patch laws (every share"),
             "{said}"
         );
-        // At 22 nodes per pad some shares hold one row of face nodes: they read their
-        // nearest neighbour's tilt nodes, and the default still takes shares.
-        let reduced = reduce_interface(&model, &auto(22)).unwrap();
+        // At 22 nodes per pad some shares hold one row of face nodes: asked for by name,
+        // they read their nearest neighbour's tilt nodes.
+        let asked = InterfaceSettings {
+            pad_coupling: PadCoupling::Share,
+            ..auto(22)
+        };
+        let reduced = reduce_interface(&model, &asked).unwrap();
         assert!(reduced
             .pads
             .iter()
