@@ -336,7 +336,7 @@ struct InterfaceFlags {
     radius: String,
     /// How each reduced contact node is tied to the pad face (study key
     /// reduction.pad_coupling; default auto: share couplings with patch laws where every
-    /// share holds face nodes off one line, distributing otherwise).
+    /// share holds a face node and each pad a share with a slope, distributing otherwise).
     #[arg(long, value_enum)]
     pad_coupling: Option<squeal::reduce::PadCoupling>,
     /// How each disc node of the reduced interface is tied to the disc face (study key

@@ -694,6 +694,9 @@ pub struct DenseCeaOptions {
     pub max_frequency_hz: f64,
     /// As [`CeaOptions::unstable_threshold`] (the same default).
     pub unstable_threshold: f64,
+    /// As [`CeaOptions::expected_rigid_modes`]: `Some(0)` after a static solve, which
+    /// converges only on a regular Jacobian, so no body is free.
+    pub expected_rigid_modes: Option<usize>,
 }
 
 impl Default for DenseCeaOptions {
@@ -702,6 +705,7 @@ impl Default for DenseCeaOptions {
         DenseCeaOptions {
             max_frequency_hz: sparse.max_frequency_hz,
             unstable_threshold: sparse.unstable_threshold,
+            expected_rigid_modes: sparse.expected_rigid_modes,
         }
     }
 }
@@ -808,7 +812,7 @@ pub fn dense_cea(
     let level =
         rigid::ROUNDOFF * rigid::local_reference((0..n).map(|i| (stiffness[(i, i)], mass[(i, i)])));
     let magnitudes: Vec<f64> = kept.iter().map(|&j| values[j].norm()).collect();
-    let rigid_flags = rigid::rigid_body_flags(&magnitudes, level, None);
+    let rigid_flags = rigid::rigid_body_flags(&magnitudes, level, options.expected_rigid_modes);
     let mut found: Vec<(ComplexMode, Vec<Complex64>)> = Vec::with_capacity(m);
     for (c, &j) in kept.iter().enumerate() {
         let w2 = values[j];

@@ -115,8 +115,9 @@ pub enum DiscCoupling {
 )]
 #[serde(rename_all = "kebab-case")]
 pub enum PadCoupling {
-    /// [`PadCoupling::Share`] where every share of every pad holds face nodes off one line
-    /// (asked for by name, a share on one line reads its nearest neighbour's tilt nodes,
+    /// [`PadCoupling::Share`] where every share of every pad holds a face node and some
+    /// share of each pad a slope of its own (a share whose nodes lie on one line, or too
+    /// thin a strip, reads its nearest neighbour's tilt nodes,
     /// [`super::tilt::slope_owners`]) and the contacts carry patch laws;
     /// [`PadCoupling::Distributing`] otherwise (see [`InterfaceSettings::resolved`]). On
     /// small-caliper with 52 nodes per pad, share couplings found 16 of the full model's 18
@@ -242,7 +243,8 @@ impl ReducedInterface {
                     (false, 0) => "; patch laws (two tilt nodes per reduced contact node)".into(),
                     (false, b) => format!(
                         "; patch laws (two tilt nodes per reduced contact node; {b} share(s) \
-                         with their face nodes on one line read their nearest neighbour's)"
+                         with their face nodes on one line or a thin strip read their nearest \
+                         neighbour's)"
                     ),
                 };
                 // With share couplings the radius is the disc-side patches' alone.
@@ -498,7 +500,8 @@ impl InterfaceSettings {
             } else if s.pad_coupling == PadCoupling::Share {
                 "every share of the pad faces holds a face node"
             } else {
-                "a share of the pad faces would hold no face node, or lie on one line"
+                "a share of the pad faces would hold no face node, or no share of a pad a \
+                 slope"
             };
             let (pad, laws) = (
                 if s.pad_coupling == PadCoupling::Share {
@@ -524,8 +527,8 @@ impl InterfaceSettings {
 }
 
 /// Whether every swept pad face of `model` can be split into shares of a grid of `size`,
-/// each with a face node ([`couple_shares`]) and a slope of its own
-/// ([`tilt::slope_owners`]). A pair without its surfaces is left to [`reduce_interface`] to
+/// each with a face node ([`couple_shares`]) and a slope to read, its own or its nearest
+/// neighbour's ([`tilt::slope_owners`]). A pair without its surfaces is left to [`reduce_interface`] to
 /// refuse by name.
 fn shares_fit(model: &Model, swept: &[usize], size: GridSize) -> Result<bool, ReduceError> {
     for slave in swept
@@ -539,18 +542,7 @@ fn shares_fit(model: &Model, swept: &[usize], size: GridSize) -> Result<bool, Re
             Err(ReduceError::ShareTooSmall { .. }) => return Ok(false),
             Err(e) => return Err(e),
         };
-        let Some(owners) = tilt::slope_owners(&couplings, &grid, &model.mesh.nodes) else {
-            return Ok(false);
-        };
-        // Not by default where a share reads a neighbour's tilt nodes, yet: on `tiny` at 22
-        // nodes per pad (examples/reduced_interface.rs, mu 0.7) the reduced model's mode at
-        // 3106.9 Hz, real part +103 1/s, came out flagged rigid, so not unstable. The
-        // rigid-body level is 1e-9 max K_ii / M_ii (`analysis::rigid`): some face node's K_ii
-        // must have grown by the tilt ties of a thin share that still reads its own slope
-        // (nodes about on a line, below `tilt`'s collinearity bound), which the paper's
-        // interface, the default there before, does not have. Until that is fixed, such
-        // grids keep the paper's interface; share couplings asked for by name build them.
-        if owners.iter().enumerate().any(|(k, &owner)| owner != k) {
+        if tilt::slope_owners(&couplings, &grid, &model.mesh.nodes).is_none() {
             return Ok(false);
         }
     }
@@ -1231,8 +1223,8 @@ mod tests {
         );
         // tiny's pad faces (65 face nodes) hold 22 shares, not 52: a share of that grid
         // holds no face node (`couple_shares` refuses it). At 22, some shares hold fewer
-        // than three nodes or one row: asked for by name, they read their neighbours' tilt
-        // nodes; the default keeps the paper's interface there (see `shares_fit`).
+        // than three nodes, one row or a thin strip: they read their neighbours' tilt nodes
+        // (`tilt::slope_owners`), and the default is squeal's interface there too.
         let face = &model.mesh.surfaces["pad_inboard_friction_face"];
         let shares = |n: usize| {
             couple_shares(
@@ -1244,7 +1236,7 @@ mod tests {
         assert!(shares(22).is_ok());
         assert!(matches!(shares(52), Err(ReduceError::ShareTooSmall { .. })));
         assert_eq!(chosen(&auto(6)), squeals);
-        assert_eq!(chosen(&auto(22)), papers);
+        assert_eq!(chosen(&auto(22)), squeals);
         assert_eq!(chosen(&auto(52)), papers);
         // Point contacts asked for: the paper's couplings go with them.
         let point = InterfaceSettings {

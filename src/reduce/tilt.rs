@@ -40,7 +40,7 @@
 //! they hold.
 
 use super::coupling::DistributingCoupling;
-use super::grid::ContactGrid;
+use super::grid::{ContactGrid, ReducedNode};
 use super::ReduceError;
 use crate::contact::Tilt;
 use crate::fem::springs::ScalarSpring;
@@ -49,6 +49,23 @@ use crate::vector3::{cross, dot, normalize, scale, sub};
 /// A patch whose in-plane spread has a condition number beyond this (its nodes about on a
 /// line) cannot give a slope across that line.
 const COLLINEAR: f64 = 1e8;
+
+/// A share reads its own slope only where its face nodes spread across every in-plane
+/// direction by at least 1/5 of its arm: arm^2 over the smallest eigenvalue of their
+/// weighted in-plane covariance ([`thinness`]) at most this.
+///
+/// Why. A slope tie holds arm times the fitted slope, so a face node's normal stiffness
+/// from it is k_s (arm g_j)^2, and across a direction in which the nodes spread by s the
+/// coefficients g_j grow as 1/s: a thin share's ties put stiffness far above any other on
+/// its nodes. Measured on `tiny` at 22 nodes per pad: four edge shares of three nodes
+/// nearly on a line (below [`COLLINEAR`]) had a thinness of 595-693 and put 1.4e14 N/m on a
+/// face node (80 times k_s), so max K_ii / M_ii grew from 2.1e15 (the paper's interface) to
+/// 1.2e18, and the rigid-body level (1e-9 of it, `analysis::rigid`) rose to 5.5 kHz: an
+/// unstable mode at 3106.9 Hz, real part +103 1/s, was called rigid. Over the presets'
+/// grids (tiny, tiny-caliper, small, small-caliper; 22 to 106 nodes per pad) a share
+/// whose nodes spread in both directions has 0.93-6.5 and a thin one 6e2-7e4: 25 lies
+/// between them with a factor of 4 and 24 on either side.
+const THIN: f64 = 25.0;
 
 /// A reduced node's tilt: the law its contact point carries, and the ties of its tilt node.
 #[derive(Clone, Debug, PartialEq)]
@@ -88,16 +105,15 @@ fn weighted_centre(patch: &[([f64; 3], usize, f64)]) -> Option<[f64; 3]> {
 /// One slope as a sum over a patch's nodes: (node, g) with slope = sum g . u_node.
 pub type SlopeTerms = Vec<(usize, [f64; 3])>;
 
-/// The coefficients of the least-squares slope of the normal displacement of a patch of
-/// nodes (`(position, node, weight)`): slope_a = sum_j g_ja . u_j, g_ja = (G^-1 w_j xi_j)_a n,
-/// xi_j the in-plane offsets from the weighted centre, G = sum_j w_j xi_j xi_j^T. `None`
-/// when the nodes are about on a line.
-pub fn slope_terms(
-    patch: &[([f64; 3], usize, f64)],
-    axes: [[f64; 3]; 2],
-    n: [f64; 3],
-) -> Option<[SlopeTerms; 2]> {
+/// A 2x2 in-plane covariance and the offsets it was made of.
+type Covariance = ([[f64; 2]; 2], Vec<[f64; 2]>);
+
+/// The weighted covariance of a patch's in-plane offsets from its weighted centre,
+/// sum_j w_j xi_j xi_j^T / sum_j w_j (xi_j along `axes`), and those offsets; `None` when
+/// the weights do not add up to a positive total.
+fn covariance(patch: &[([f64; 3], usize, f64)], axes: [[f64; 3]; 2]) -> Option<Covariance> {
     let centre = weighted_centre(patch)?;
+    let total: f64 = patch.iter().map(|p| p.2).sum();
     let offsets: Vec<[f64; 2]> = patch
         .iter()
         .map(|&(x, _, _)| {
@@ -109,10 +125,50 @@ pub fn slope_terms(
     for (xi, p) in offsets.iter().zip(patch) {
         for a in 0..2 {
             for b in 0..2 {
-                g[a][b] += p.2 * xi[a] * xi[b];
+                g[a][b] += p.2 / total * xi[a] * xi[b];
             }
         }
     }
+    Some((g, offsets))
+}
+
+/// arm^2 over the smallest eigenvalue of a patch's in-plane covariance: how much thinner
+/// than its arm the patch's nodes spread across their thinnest direction, squared (see
+/// [`THIN`]). Infinite for nodes on one line.
+pub fn thinness(patch: &[([f64; 3], usize, f64)], axes: [[f64; 3]; 2], arm: f64) -> f64 {
+    let Some((g, _)) = covariance(patch, axes) else {
+        return f64::INFINITY;
+    };
+    let half = 0.5 * (g[0][0] + g[1][1]);
+    let det = g[0][0] * g[1][1] - g[0][1] * g[1][0];
+    // det / largest: the difference half - sqrt(...) would lose the small one to cancellation.
+    let largest = half + (half * half - det).max(0.0).sqrt();
+    let smallest = if largest > 0.0 { det / largest } else { 0.0 };
+    if smallest > 0.0 {
+        arm * arm / smallest
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// The arm of a share of area `area` and second moment `second_moment`: its radius of
+/// gyration, sqrt(tr I / (2 A)); `None` for a share with no area or no second moment.
+pub fn arm(area: f64, second_moment: [[f64; 2]; 2]) -> Option<f64> {
+    let trace = second_moment[0][0] + second_moment[1][1];
+    (area > 0.0 && trace > 0.0).then(|| (trace / (2.0 * area)).sqrt())
+}
+
+/// The coefficients of the least-squares slope of the normal displacement of a patch of
+/// nodes (`(position, node, weight)`): slope_a = sum_j g_ja . u_j, g_ja = (G^-1 w_j xi_j)_a n,
+/// xi_j the in-plane offsets from the weighted centre, G = sum_j w_j xi_j xi_j^T. `None`
+/// when the nodes are about on a line.
+pub fn slope_terms(
+    patch: &[([f64; 3], usize, f64)],
+    axes: [[f64; 3]; 2],
+    n: [f64; 3],
+) -> Option<[SlopeTerms; 2]> {
+    let (g, offsets) = covariance(patch, axes)?;
+    let total: f64 = patch.iter().map(|p| p.2).sum();
     let trace = g[0][0] + g[1][1];
     let det = g[0][0] * g[1][1] - g[0][1] * g[1][0];
     // Condition number of the symmetric 2x2 G: (l1 / l2) ~ trace^2 / det for l1 >> l2.
@@ -128,7 +184,7 @@ pub fn slope_terms(
             .iter()
             .zip(patch)
             .map(|(xi, &(_, node, w))| {
-                let c = w * (inverse[a][0] * xi[0] + inverse[a][1] * xi[1]);
+                let c = w / total * (inverse[a][0] * xi[0] + inverse[a][1] * xi[1]);
                 (node, scale(c, n))
             })
             .collect::<Vec<_>>()
@@ -188,10 +244,9 @@ pub fn node_tilt(
     penalty: f64,
     tie_stiffness: f64,
 ) -> Result<Option<NodeTilt>, ReduceError> {
-    let trace = second_moment[0][0] + second_moment[1][1];
-    if !(area > 0.0 && trace > 0.0) {
+    let Some(arm) = arm(area, second_moment) else {
         return Ok(None);
-    }
+    };
     let invalid = |why: String| ReduceError::Tilt {
         pair: pair.to_string(),
         reduced_node,
@@ -199,7 +254,6 @@ pub fn node_tilt(
     };
     let e =
         axes(plane_axes, n).ok_or_else(|| invalid("its normal lies in the grid's plane".into()))?;
-    let arm = (trace / (2.0 * area)).sqrt();
     let side = |patch: &[([f64; 3], usize, f64)], which: &str| {
         slope_terms(patch, e, n).ok_or_else(|| {
             invalid(format!(
@@ -255,9 +309,9 @@ pub fn patch(
 }
 
 /// Whose tilt nodes each share's patch law reads, in the grid's order: its own where its
-/// face nodes give a slope and a twist (they are off one line), else the nearest such
-/// share's (grid points in the plane, the lower index on a tie). `None` when no share of
-/// the face gives one.
+/// face nodes give a slope and a twist and spread across the share ([`reads_own_slope`]),
+/// else the nearest such share's (grid points in the plane, the lower index on a tie).
+/// `None` when no share of the face gives one.
 ///
 /// Why. On a grid about as fine as the mesh an edge share can hold one row of face nodes
 /// (medium-caliper at 90 and 106 nodes per pad: 4 nodes on one line). Its translation
@@ -278,13 +332,7 @@ pub fn slope_owners(
     let reads: Vec<bool> = couplings
         .iter()
         .zip(&grid.nodes)
-        .map(|(c, node)| {
-            let own = patch(c, positions);
-            axes(grid.plane.axes, node.normal).is_some_and(|e| {
-                slope_terms(&own, e, node.normal).is_some()
-                    && twist_terms(&own, node.normal).is_some()
-            })
-        })
+        .map(|(c, node)| reads_own_slope(c, node, grid.plane.axes, positions))
         .collect();
     (0..couplings.len())
         .map(|k| {
@@ -302,6 +350,27 @@ pub fn slope_owners(
                 .map(|(_, j)| j)
         })
         .collect()
+}
+
+/// Whether the share of reduced node `node`, coupled by `coupling`, gives a slope and a
+/// twist of its own that its ties can hold without stiffening its nodes far beyond the
+/// rest of the face: its nodes off one line and no thinner than [`THIN`] allows.
+pub fn reads_own_slope(
+    coupling: &DistributingCoupling,
+    node: &ReducedNode,
+    plane_axes: [[f64; 3]; 2],
+    positions: &[[f64; 3]],
+) -> bool {
+    let own = patch(coupling, positions);
+    let (Some(e), Some(arm)) = (
+        axes(plane_axes, node.normal),
+        arm(node.area, node.second_moment),
+    ) else {
+        return false;
+    };
+    slope_terms(&own, e, node.normal).is_some()
+        && twist_terms(&own, node.normal).is_some()
+        && thinness(&own, e, arm) <= THIN
 }
 
 /// The patch law of a share that reads another's tilt nodes ([`slope_owners`]): the
@@ -458,6 +527,46 @@ mod tests {
         assert!(slope_terms(&line, e, n).is_none());
     }
 
+    /// Thinness against hand computation: a unit square share with a node at each corner
+    /// (arm^2 = tr I / 2A = 1/12, covariance 1/4 I: 1/3), and a strip of nodes at
+    /// (+-1/2, +-d) in the same share (covariance diag(1/4, d^2): arm^2 / d^2). Across the
+    /// strip the slope tie's largest coefficient grows as its thinness: arm^2 |g|^2 =
+    /// arm^2 / (16 d^2) per node, which is why [`THIN`] exists.
+    #[test]
+    fn thinness_is_the_arm_over_the_thinnest_spread_squared() {
+        let n = [0.0, 0.0, 1.0];
+        let e = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+        let area = 1.0;
+        let moment = [[1.0 / 12.0, 0.0], [0.0, 1.0 / 12.0]];
+        let arm = arm(area, moment).unwrap();
+        assert!((arm * arm - 1.0 / 12.0).abs() < 1e-15);
+        let corners = |d: f64| -> Vec<([f64; 3], usize, f64)> {
+            [[-0.5, -d], [0.5, -d], [0.5, d], [-0.5, d]]
+                .iter()
+                .enumerate()
+                .map(|(j, p)| ([p[0], p[1], 0.0], j, 0.25))
+                .collect()
+        };
+        assert!((thinness(&corners(0.5), e, arm) - 1.0 / 3.0).abs() < 1e-14);
+        for d in [0.1, 0.01, 1e-3] {
+            let strip = corners(d);
+            let t = thinness(&strip, e, arm);
+            let want = arm * arm / (d * d);
+            assert!((t - want).abs() < 1e-12 * want, "d {d}: {t} vs {want}");
+            let across = &slope_terms(&strip, e, n).unwrap()[1];
+            for &(_, g) in across {
+                let c = arm * arm * dot(g, g);
+                assert!(
+                    (c - t / 16.0).abs() < 1e-10 * c,
+                    "d {d}: {c} vs {}",
+                    t / 16.0
+                );
+            }
+        }
+        assert!(thinness(&corners(0.0), e, arm).is_infinite());
+        assert!(super::arm(0.0, moment).is_none() && super::arm(1.0, [[0.0; 2]; 2]).is_none());
+    }
+
     /// The twist terms read a rigid rotation about the normal exactly, whatever the
     /// translation and the normal field added to it; a single node has no twist.
     #[test]
@@ -521,7 +630,10 @@ mod tests {
             let owners = slope_owners(&couplings, &grid, &mesh.nodes).expect("a share reads");
             let reads = |k: usize| {
                 let own = patch(&couplings[k], &mesh.nodes);
-                slope_terms(&own, e, n).is_some() && twist_terms(&own, n).is_some()
+                let arm = arm(grid.nodes[k].area, grid.nodes[k].second_moment).unwrap();
+                slope_terms(&own, e, n).is_some()
+                    && twist_terms(&own, n).is_some()
+                    && thinness(&own, e, arm) <= THIN
             };
             for (k, &owner) in owners.iter().enumerate() {
                 assert_eq!(owner == k, reads(k), "h {h}, share {k}");

@@ -118,6 +118,9 @@ fn assemble(args: &AssembleArgs) -> Result<(), StudyError> {
                 &DenseCeaOptions {
                     max_frequency_hz: args.max_frequency_hz,
                     unstable_threshold: args.unstable_threshold,
+                    // After a converged static: every body is held, no mode is rigid
+                    // whatever the round-off level (its ties' stiffness) says.
+                    expected_rigid_modes: Some(0),
                 },
             )
             .map_err(dense)?;

@@ -410,6 +410,9 @@ impl<'rt> SuperElementModel<'rt> {
                     &DenseCeaOptions {
                         max_frequency_hz: self.settings.max_frequency_hz,
                         unstable_threshold: self.settings.unstable_threshold,
+                        // After a converged static: every body is held, no mode is rigid
+                        // whatever the round-off level (its ties' stiffness) says.
+                        expected_rigid_modes: Some(0),
                     },
                 )?;
                 Ok((
