@@ -9,7 +9,8 @@
 //!
 //! (defaults: tiny-caliper, 22 nodes per pad, patch laws, mu = 0, the grid-optimal radius of
 //! influence, the disc tied by shape functions, the disc's modulus as it is; RADIUS in mesh
-//! units; the preset's built-in study). The full model's stiffness is k_n a_i over its closed slave nodes; a point
+//! units or grid-optimal; `share` ties both the pad and the disc by share couplings, squeal's
+//! default interface; the preset's built-in study). The full model's stiffness is k_n a_i over its closed slave nodes; a point
 //! contact's is k_n A where it is closed; a patch law's is k_n a_j over the closed
 //! quadrature points of its share at the point's gap and tilt (`crate::contact::Tilt`).
 //!
@@ -29,7 +30,9 @@ use squeal::contact::{self, ContactPair, SlipHistory};
 use squeal::fem::element::MassRule;
 use squeal::model::{self, Model, Operators};
 use squeal::petsc::{Runtime, RuntimeOptions};
-use squeal::reduce::{reduce_interface, DiscCoupling, GridSize, InterfaceSettings, RadiusChoice};
+use squeal::reduce::{
+    reduce_interface, DiscCoupling, GridSize, InterfaceSettings, PadCoupling, RadiusChoice,
+};
 use squeal::study::config::Study;
 use std::process::ExitCode;
 
@@ -155,11 +158,12 @@ fn run(rt: &Runtime) -> Result<Vec<String>, String> {
         None => 0.0,
     };
     let radius = match args.get(4) {
+        None => RadiusChoice::GridOptimal,
+        Some(r) if r == "grid-optimal" => RadiusChoice::GridOptimal,
         Some(r) => RadiusChoice::Length(
             r.parse()
-                .map_err(|_| format!("RADIUS: a length, got {r}"))?,
+                .map_err(|_| format!("RADIUS: a length or grid-optimal, got {r}"))?,
         ),
-        None => RadiusChoice::GridOptimal,
     };
     let disc_coupling = match args.get(5).map(String::as_str) {
         None | Some("shape-functions") => DiscCoupling::ShapeFunctions,
@@ -198,10 +202,18 @@ fn run(rt: &Runtime) -> Result<Vec<String>, String> {
             .ok_or("the disc's material is not in the mesh")?;
         material.young *= disc_stiffer;
     }
+    // Share couplings on the disc go with share couplings on the pad (squeal's default
+    // interface where the mesh holds it).
+    let pad_coupling = if disc_coupling == DiscCoupling::Share {
+        PadCoupling::Share
+    } else {
+        PadCoupling::Distributing
+    };
     let settings = InterfaceSettings {
         tilt: Some(tilt),
         radius,
         disc_coupling,
+        pad_coupling,
         ..InterfaceSettings::paper(GridSize::Count(nodes))
     };
     let reduced = reduce_interface(&full, &settings).map_err(|e| e.to_string())?;
