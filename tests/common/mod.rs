@@ -100,6 +100,17 @@ pub fn text(out: &Output) -> String {
     )
 }
 
+/// Whether a run on `ranks` ranks is wanted: always, unless `SQUEAL_TEST_RANKS` (a
+/// comma-separated list, set by `ci/test` for the reruns under other BLAS kernels, which
+/// check decisions, not the agreement between rank counts) leaves it out. The program
+/// tests' counterpart of the numerics harness's rank counts.
+pub fn ranks_wanted(ranks: usize) -> bool {
+    match std::env::var("SQUEAL_TEST_RANKS") {
+        Ok(list) => list.split(',').any(|n| n.trim().parse() == Ok(ranks)),
+        Err(_) => true,
+    }
+}
+
 /// The squeal binary Cargo built for the integration tests.
 pub fn squeal() -> &'static Path {
     Path::new(env!("CARGO_BIN_EXE_squeal"))

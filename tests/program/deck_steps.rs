@@ -396,15 +396,17 @@ fn the_frictional_deck_couples_the_modes_calculix_couples() {
     let out = dir.join("out");
     run(2, &out);
     // The variant's perturbation tangent is assembled by each rank for its own points: the
-    // same eigenvalues on 1 rank.
-    let one = dir.join("one");
-    run(1, &one);
-    same_eigenvalues(
-        &eigenvalues(&out.join("step-3-frequency/cea.json")),
-        &eigenvalues(&one.join("step-3-frequency/cea.json")),
-        1e-8,
-        "2 against 1 rank",
-    );
+    // same eigenvalues on 1 rank (not in the reruns under other BLAS kernels).
+    if common::ranks_wanted(1) {
+        let one = dir.join("one");
+        run(1, &one);
+        same_eigenvalues(
+            &eigenvalues(&out.join("step-3-frequency/cea.json")),
+            &eigenvalues(&one.join("step-3-frequency/cea.json")),
+            1e-8,
+            "2 against 1 rank",
+        );
+    }
     let reference = json(&data("pad_on_plate_friction.ccx.json"));
     let numbers = |key: &str| -> Vec<f64> {
         reference[key]

@@ -143,7 +143,7 @@ fn discrete_deck_matches_calculix_on_one_and_two_ranks() {
 fn constrained_deck_matches_calculix_on_one_and_two_ranks() {
     let theirs = reference("constraints_c3d10.ccx.json");
     let mut runs = Vec::new();
-    for ranks in [1, 2] {
+    for ranks in [1, 2].into_iter().filter(|&n| common::ranks_wanted(n)) {
         let out = scratch(&format!("constraints-ccx-{ranks}"));
         let ours = modes(
             ranks,
@@ -159,7 +159,9 @@ fn constrained_deck_matches_calculix_on_one_and_two_ranks() {
         );
         runs.push(ours);
     }
-    assert_close(&runs[1], &runs[0], 1e-9, "constrained deck, 2 ranks vs 1");
+    if let [one, two] = &runs[..] {
+        assert_close(two, one, 1e-9, "constrained deck, 2 ranks vs 1");
+    }
 }
 
 /// A point mass m on a node of its own, held by three SPRING1 to ground of stiffness k_i
