@@ -132,6 +132,11 @@ enum Command {
         /// Eigenpairs asked of SLEPc per shift.
         #[arg(long, default_value_t = 30)]
         window: usize,
+        /// How many rigid-body motions the model has (0 for a held brake). Without it, a mode
+        /// is rigid when |omega^2| is below the matrices' round-off level (1e-9 of the
+        /// largest K_ii / M_ii), which a very stiff spring or penalty raises into the band.
+        #[arg(long)]
+        rigid_body_modes: Option<usize>,
         /// Output folder (cea.json, cea.csv).
         #[arg(short, long, default_value = "squeal-out")]
         output: PathBuf,
@@ -582,6 +587,7 @@ fn main() -> ExitCode {
             fmax,
             unstable_threshold,
             window,
+            rigid_body_modes,
             output,
         } => study::cea::run(
             &rt,
@@ -592,6 +598,7 @@ fn main() -> ExitCode {
                 max_frequency_hz: fmax,
                 unstable_threshold,
                 modes_per_target: window,
+                rigid_body_modes,
                 output,
             },
         )

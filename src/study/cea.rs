@@ -23,6 +23,8 @@ pub struct CeaArgs {
     pub max_frequency_hz: f64,
     pub unstable_threshold: f64,
     pub modes_per_target: usize,
+    /// The model's rigid-body motions, when the user knows them (`--rigid-body-modes`).
+    pub rigid_body_modes: Option<usize>,
     pub output: PathBuf,
 }
 
@@ -38,7 +40,13 @@ pub fn table(modes: &[ComplexMode]) -> String {
             m.real_part,
             m.damping_ratio,
             m.residual,
-            if m.unstable { "   UNSTABLE" } else { "" }
+            if m.unstable {
+                "   UNSTABLE"
+            } else if m.rigid_body {
+                "   rigid body"
+            } else {
+                ""
+            }
         ));
     }
     s
@@ -135,6 +143,7 @@ fn solve_and_write(
         max_frequency_hz: args.max_frequency_hz,
         unstable_threshold: args.unstable_threshold,
         modes_per_target: args.modes_per_target,
+        expected_rigid_modes: args.rigid_body_modes,
         ..Default::default()
     };
     let damping = match &set.damping {
@@ -144,6 +153,19 @@ fn solve_and_write(
     let modes = collective(comm, cea::solve(comm, &k, &m, damping.as_ref(), &options))?.modes;
     if root {
         print!("{}", table(&modes));
+        // Taken as rigid by the round-off level alone: say so, and how to say otherwise (a
+        // stiff tie or penalty in exported matrices raises the level into the band, and an
+        // unstable mode under it is not flagged).
+        let rigid: Vec<&ComplexMode> = modes.iter().filter(|m| m.rigid_body).collect();
+        if args.rigid_body_modes.is_none() && !rigid.is_empty() {
+            let top = rigid.iter().map(|m| m.frequency_hz).fold(0.0, f64::max);
+            tracing::warn!(
+                "{} mode(s) up to {top:.1} Hz taken as rigid-body motions (below the round-off \
+                 level of these matrices, 1e-9 of their largest K_ii / M_ii); if the model \
+                 has fewer, say how many with --rigid-body-modes (0 for a held brake)",
+                rigid.len()
+            );
+        }
         let model = MatrixFiles {
             stiffness: args.stiffness.display().to_string(),
             mass: args.mass.display().to_string(),

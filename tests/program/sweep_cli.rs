@@ -177,6 +177,73 @@ fn a_negative_stiffness_is_a_divergence_instability() {
     }
 }
 
+/// A very stiff spring raises the round-off level of the rigid-body check (1e-9 of the
+/// largest K_ii / M_ii) into the band: K = diag(1e16, [[a, b], [-b, a]]), M = I. The block's
+/// omega^2 = a +/- i b (a = 1e6, b = 1e5) lie below 1e7, so without a count its two modes
+/// are taken as rigid, said on the log, and the unstable one is not flagged; with
+/// `--rigid-body-modes 0` they are lambda = i sqrt(omega^2) exactly, one unstable.
+#[test]
+fn a_count_of_rigid_body_modes_keeps_modes_under_a_stiff_springs_level() {
+    let dir = scratch("rigid-count");
+    let (a, b) = (1e6, 1e5);
+    write_mtx(
+        &dir.join("K.mtx"),
+        &[(0, 0, 1e16), (1, 1, a), (1, 2, b), (2, 1, -b), (2, 2, a)],
+    );
+    write_mtx(&dir.join("M.mtx"), &[(0, 0, 1.0), (1, 1, 1.0), (2, 2, 1.0)]);
+    let run = |out: &Path, extra: &[&str]| {
+        let mut args = vec![
+            "cea",
+            "--stiffness",
+            dir.join("K.mtx").to_str().unwrap(),
+            "--mass",
+            dir.join("M.mtx").to_str().unwrap(),
+            "--fmax",
+            "1000",
+            "-o",
+            out.to_str().unwrap(),
+        ]
+        .into_iter()
+        .map(String::from)
+        .collect::<Vec<_>>();
+        args.extend(extra.iter().map(|s| s.to_string()));
+        let refs: Vec<&str> = args.iter().map(String::as_str).collect();
+        let run = common::mpirun(2, squeal(), &refs);
+        assert!(run.status.success(), "{}", common::text(&run));
+        common::text(&run)
+    };
+    let unknown = dir.join("unknown");
+    let log = run(&unknown, &[]);
+    assert!(
+        log.contains("2 mode(s) up to") && log.contains("--rigid-body-modes"),
+        "{log}"
+    );
+    let found = eigenvalues(&unknown);
+    assert_eq!(found.len(), 2, "{found:?}");
+    assert!(found.iter().all(|m| !m.2), "{found:?}");
+
+    let held = dir.join("held");
+    let log = run(&held, &["--rigid-body-modes", "0"]);
+    assert!(!log.contains("taken as rigid-body"), "{log}");
+    let root = num_complex::Complex64::new(a, b).sqrt();
+    let mut found = eigenvalues(&held);
+    found.sort_by(|x, y| x.1.total_cmp(&y.1));
+    assert_eq!(found.len(), 2, "{found:?}");
+    let frequency = root.re / (2.0 * std::f64::consts::PI);
+    for ((f, re, unstable), sign) in found.into_iter().zip([-1.0, 1.0]) {
+        assert!(
+            (f - frequency).abs() <= 1e-10 * frequency,
+            "{f} vs {frequency}"
+        );
+        assert!(
+            (re - sign * root.im).abs() <= 1e-8 * root.norm(),
+            "{re} vs {}",
+            root.im
+        );
+        assert_eq!(unstable, sign > 0.0);
+    }
+}
+
 /// `squeal cea` refuses a band or a threshold that cannot mean anything before it reads a
 /// matrix, once (not once per rank), naming the flag, and writes nothing.
 #[test]
