@@ -49,20 +49,7 @@ fn cea_on_matrix_market_files_matches_the_closed_form() {
         );
         write_mtx(&dir.join("M.mtx"), &[(0, 0, 1.0), (1, 1, 1.0)]);
         let out = dir.join(format!("out{d}"));
-        success(
-            2,
-            &[
-                "cea",
-                "--stiffness",
-                dir.join("K.mtx").to_str().unwrap(),
-                "--mass",
-                dir.join("M.mtx").to_str().unwrap(),
-                "--fmax",
-                "1",
-                "-o",
-                out.to_str().unwrap(),
-            ],
-        );
+        cea_on(&dir, "1", &out, &[]);
         let found = eigenvalues(&out);
         assert_eq!(found.len(), 2, "{found:?}");
         let disc = Complex64::new(1.0 - d, 0.0).sqrt();
@@ -132,6 +119,25 @@ fn sweep_of_the_builtin_brake_writes_a_complete_study() {
 }
 
 /// Runs squeal under mpirun and insists it succeeds.
+/// `squeal cea` on dir/K.mtx and dir/M.mtx to `fmax` Hz into `out` on 2 ranks, with
+/// `extra` flags; it must succeed.
+fn cea_on(dir: &Path, fmax: &str, out: &Path, extra: &[&str]) -> std::process::Output {
+    let (k, m) = (dir.join("K.mtx"), dir.join("M.mtx"));
+    let mut args = vec![
+        "cea",
+        "--stiffness",
+        k.to_str().unwrap(),
+        "--mass",
+        m.to_str().unwrap(),
+        "--fmax",
+        fmax,
+        "-o",
+        out.to_str().unwrap(),
+    ];
+    args.extend_from_slice(extra);
+    success(2, &args)
+}
+
 fn success(ranks: usize, args: &[&str]) -> std::process::Output {
     let run = common::mpirun(ranks, squeal(), args);
     assert!(run.status.success(), "{}", common::text(&run));
@@ -155,20 +161,7 @@ fn a_negative_stiffness_is_a_divergence_instability() {
     write_mtx(&dir.join("K.mtx"), &[(0, 0, -4.0), (1, 1, -9.0)]);
     write_mtx(&dir.join("M.mtx"), &[(0, 0, 1.0), (1, 1, 1.0)]);
     let out = dir.join("out");
-    success(
-        2,
-        &[
-            "cea",
-            "--stiffness",
-            dir.join("K.mtx").to_str().unwrap(),
-            "--mass",
-            dir.join("M.mtx").to_str().unwrap(),
-            "--fmax",
-            "1",
-            "-o",
-            out.to_str().unwrap(),
-        ],
-    );
+    cea_on(&dir, "1", &out, &[]);
     let mut found = eigenvalues(&out);
     found.sort_by(|a, b| a.1.total_cmp(&b.1));
     assert_eq!(found.len(), 2, "{found:?}");
@@ -191,27 +184,7 @@ fn a_count_of_rigid_body_modes_keeps_modes_under_a_stiff_springs_level() {
         &[(0, 0, 1e16), (1, 1, a), (1, 2, b), (2, 1, -b), (2, 2, a)],
     );
     write_mtx(&dir.join("M.mtx"), &[(0, 0, 1.0), (1, 1, 1.0), (2, 2, 1.0)]);
-    let run = |out: &Path, extra: &[&str]| {
-        let mut args = vec![
-            "cea",
-            "--stiffness",
-            dir.join("K.mtx").to_str().unwrap(),
-            "--mass",
-            dir.join("M.mtx").to_str().unwrap(),
-            "--fmax",
-            "1000",
-            "-o",
-            out.to_str().unwrap(),
-        ]
-        .into_iter()
-        .map(String::from)
-        .collect::<Vec<_>>();
-        args.extend(extra.iter().map(|s| s.to_string()));
-        let refs: Vec<&str> = args.iter().map(String::as_str).collect();
-        let run = common::mpirun(2, squeal(), &refs);
-        assert!(run.status.success(), "{}", common::text(&run));
-        common::text(&run)
-    };
+    let run = |out: &Path, extra: &[&str]| common::text(&cea_on(&dir, "1000", out, extra));
     let unknown = dir.join("unknown");
     let log = run(&unknown, &[]);
     assert!(
