@@ -10,9 +10,10 @@
 //! (defaults: tiny-caliper, 22 nodes per pad, patch laws, mu = 0, the grid-optimal radius of
 //! influence, the disc tied by shape functions, the disc's modulus as it is; RADIUS in mesh
 //! units or grid-optimal; `share` ties both the pad and the disc by share couplings, squeal's
-//! default interface; the preset's built-in study). The full model's stiffness is k_n a_i over its closed slave nodes; a point
-//! contact's is k_n A where it is closed; a patch law's is k_n a_j over the closed
-//! quadrature points of its share at the point's gap and tilt (`crate::contact::Tilt`).
+//! default interface; the preset's built-in study). The full model's stiffness is k_n a_i
+//! over its closed slave nodes; a point contact's is k_n A where it is closed; a patch law's
+//! is k_n a_j over the closed quadrature points of its share at the point's gap and tilt
+//! (`crate::contact::Tilt`).
 //!
 //! A third row evaluates the full model's law on the reduced model's displacements (the
 //! mesh nodes keep their numbers): the contact zone the reduced model's deformation itself

@@ -528,8 +528,8 @@ impl InterfaceSettings {
 
 /// Whether every swept pad face of `model` can be split into shares of a grid of `size`,
 /// each with a face node ([`couple_shares`]) and a slope to read, its own or its nearest
-/// neighbour's ([`tilt::slope_owners`]). A pair without its surfaces is left to [`reduce_interface`] to
-/// refuse by name.
+/// neighbour's ([`tilt::slope_owners`]). A pair without its surfaces is left to
+/// [`reduce_interface`] to refuse by name.
 fn shares_fit(model: &Model, swept: &[usize], size: GridSize) -> Result<bool, ReduceError> {
     for slave in swept
         .iter()
