@@ -15,10 +15,9 @@
 //! matched by any interface to better than that: the full model's own mesh decides it
 //! (issue 29: small-caliper's 2272.9 Hz pad mode).
 //!
-//! How. A point is opened or closed by moving its slave node along the contact normal until
-//! its gap changes sign, in the displacement the tangent is taken at alone: the law is
-//! linear in the gap, so a closed point keeps its stiffness and the change is that point's
-//! k_n a_i and nothing more.
+//! How: [`squeal::analysis::contact_edge::moved_edge`] (the points' slave nodes moved along
+//! the normal until their gaps change sign, in the displacement the tangent is taken at
+//! alone), which `--contact-edge-points` uses at every point of a sweep.
 //!
 //! What it checks (at mu = 0, where the tangent is symmetric): closing r points adds r
 //! rank-one stiffnesses, so the eigenvalues omega_i^2 interlace, omega_i^2 <= omega'_i^2 <=
@@ -28,9 +27,10 @@
 //! more) is not rank-one; 1e-4 of omega_i^2 covers it. It exits with failure otherwise.
 
 use squeal::analysis::cea::{self, CeaOptions, ComplexMode};
+use squeal::analysis::contact_edge::{moved_edge, EdgeMove};
 use squeal::analysis::restraint;
 use squeal::analysis::statics::{self, StaticOptions, StaticProblem};
-use squeal::contact::{point_state, SlipHistory};
+use squeal::contact::SlipHistory;
 use squeal::fem::element::MassRule;
 use squeal::model::{self, Model, Operators};
 use squeal::petsc::{Runtime, RuntimeOptions};
@@ -39,15 +39,6 @@ use std::process::ExitCode;
 
 /// Interlacing holds to this fraction of omega_i^2 (the geometric part; see the module doc).
 const INTERLACING: f64 = 1e-4;
-
-/// A swept pair's contact point at the equilibrium: its slave node, normal, gap and force.
-struct EdgePoint {
-    node: usize,
-    normal: [f64; 3],
-    gap: f64,
-    force: f64,
-    closed: bool,
-}
 
 fn omega2(m: &ComplexMode) -> f64 {
     (2.0 * std::f64::consts::PI * m.frequency_hz).powi(2)
@@ -92,58 +83,55 @@ fn run(rt: &Runtime) -> Result<Vec<String>, String> {
     };
     let eq = statics::solve(comm, &problem, None, &StaticOptions::default())
         .map_err(|e| e.to_string())?;
-    let mut points = Vec::new();
-    for (i, pair) in model.pairs.iter().enumerate() {
-        if !model.swept[i] {
-            continue;
-        }
-        for (j, p) in pair.points.iter().enumerate() {
-            let s = point_state(pair, p, eq.slip_before.anchor(i, j), &eq.displacement)
-                .map_err(|e| e.to_string())?;
-            points.push(EdgePoint {
-                node: p.slave_node,
-                normal: p.normal,
-                gap: s.gap,
-                force: s.normal_force,
-                closed: s.closed,
-            });
-        }
-    }
-    let mut closed: Vec<&EdgePoint> = points.iter().filter(|p| p.closed).collect();
-    closed.sort_by(|a, b| a.force.total_cmp(&b.force));
-    let mut open: Vec<&EdgePoint> = points.iter().filter(|p| !p.closed).collect();
-    open.sort_by(|a, b| a.gap.total_cmp(&b.gap));
+    let swept_states = || {
+        model
+            .pairs
+            .iter()
+            .zip(&eq.contact)
+            .zip(&model.swept)
+            .filter(|&(_, &swept)| swept)
+            .flat_map(|((_, states), _)| states.iter())
+    };
+    let closed = swept_states().filter(|s| s.closed).count();
+    let weakest = swept_states()
+        .filter(|s| s.closed)
+        .map(|s| s.normal_force)
+        .fold(f64::INFINITY, f64::min);
+    let nearest = swept_states()
+        .filter(|s| !s.closed)
+        .map(|s| s.gap)
+        .fold(f64::INFINITY, f64::min);
+    let total = swept_states().count();
     let options = CeaOptions {
         max_frequency_hz: fmax,
         expected_rigid_modes: Some(0),
         ..Default::default()
     };
-    // The modes with the listed points' gaps moved to `sign` (positive: open) and nothing
-    // else changed.
-    let modes_with = |moved: &[&EdgePoint], sign: f64| -> Result<Vec<ComplexMode>, String> {
-        let mut u = eq.displacement.clone();
-        for p in moved {
-            // A gap of +-1e-12 of the point's own gap scale: the state flips, the force is nil.
-            let target = sign * 1e-12 * p.gap.abs().max(1e-9);
-            for (x, n) in u[p.node].iter_mut().zip(p.normal) {
-                *x += (target - p.gap) * n;
-            }
-        }
+    // The modes with r points moved across the edge, and how many moved.
+    let modes_with = |r: usize, direction: EdgeMove| -> Result<(Vec<ComplexMode>, usize), String> {
+        let (u, moved) = moved_edge(
+            &model.pairs,
+            &model.swept,
+            &eq.contact,
+            &eq.displacement,
+            r,
+            direction,
+        );
         let kt = statics::tangent(comm, &stiffness, &dofs, &model.pairs, &eq.slip_before, &u)
             .map_err(|e| e.to_string())?;
         let res = cea::undamped(comm, &kt, &mass, &options).map_err(|e| e.to_string())?;
-        Ok(res.modes)
+        Ok((res.modes, moved))
     };
-    let base = modes_with(&[], 1.0)?;
+    let (base, _) = modes_with(0, EdgeMove::Open)?;
     if root {
         println!(
             "{preset}, mu {mu}: {} swept contact points, {} closed (forces from {:.3} N), {} \
              open (gaps from {:.3e} m); {} modes to {fmax} Hz",
-            points.len(),
-            closed.len(),
-            closed.first().map_or(0.0, |p| p.force),
-            open.len(),
-            open.first().map_or(0.0, |p| p.gap),
+            total,
+            closed,
+            weakest,
+            total - closed,
+            nearest,
             base.len()
         );
     }
@@ -153,12 +141,12 @@ fn run(rt: &Runtime) -> Result<Vec<String>, String> {
         .map(|m| vec![format!("{:9.1}", m.frequency_hz)])
         .collect();
     let mut header = vec!["  f (Hz) ".to_string()];
-    for (action, list, sign) in [("open", &closed, 1.0), ("close", &open, -1.0)] {
+    for (action, direction) in [("open", EdgeMove::Open), ("close", EdgeMove::Close)] {
         for r in [1usize, 2, 4, 8, 16] {
-            if r > list.len() {
+            let (changed, moved) = modes_with(r, direction)?;
+            if moved < r {
                 continue;
             }
-            let changed = modes_with(&list[..r], sign)?;
             header.push(format!("{action} {r:2}"));
             for (i, row) in rows.iter_mut().enumerate() {
                 let cell = changed.get(i).map_or("      -".to_string(), |m| {
@@ -174,7 +162,7 @@ fn run(rt: &Runtime) -> Result<Vec<String>, String> {
                     let w = omega2(m);
                     let slack = INTERLACING * omega2(&base[i]);
                     // Opening lowers every eigenvalue by at most r places, closing raises it.
-                    let (low, high) = if sign > 0.0 {
+                    let (low, high) = if direction == EdgeMove::Open {
                         (
                             i.checked_sub(r).map(|k| omega2(&base[k])),
                             Some(omega2(&base[i])),

@@ -56,6 +56,12 @@ struct StudyFlags {
     /// Output folder (for `study`: one folder per stage inside, and the report).
     #[arg(short, long)]
     output: Option<PathBuf>,
+    /// At each friction value of a full-size model, the CEA again with this many points of
+    /// the disc/pad contact zones' edge opened (least force), then closed (least gap): which
+    /// modes and instabilities the mesh's contact edge decides (two more CEAs a point; study
+    /// key `analysis.contact_edge_points`).
+    #[arg(long, value_name = "POINTS")]
+    contact_edge_points: Option<usize>,
     /// Write the study (after the command-line changes; for `study`, its [comparison] plan
     /// filled in) to this TOML file and stop: a starting point for your own.
     #[arg(long)]
@@ -70,6 +76,7 @@ impl StudyFlags {
             friction: self.friction,
             max_frequency_hz: self.fmax,
             output: self.output,
+            contact_edge_points: self.contact_edge_points,
             ..Default::default()
         };
         (args, self.study, self.write_study)

@@ -2,6 +2,7 @@
 //! eigenvalues. Every analysis takes assembled operators, not meshes.
 
 pub mod cea;
+pub mod contact_edge;
 pub mod continuation;
 pub mod modes;
 pub mod operators;

@@ -19,7 +19,7 @@ mod point;
 pub use cea_json::{CeaDocument, DeckStep, FrictionPoint, MatrixFiles};
 pub use contact_map::{ContactMap, ContactMapPoint, SurfacePressure, SurfaceShape};
 pub use model::ModelInfo;
-pub use point::{PairReport, SuperElementInfo, SuperElementPoint, SweepPointReport};
+pub use point::{EdgeCheck, PairReport, SuperElementInfo, SuperElementPoint, SweepPointReport};
 
 use crate::analysis::cea;
 use crate::analysis::tracking::{Instability, Track};

@@ -32,6 +32,48 @@ pub struct SweepPointReport {
     /// A super-element assembly's point: which super-element served it and what it cost.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub superelement: Option<SuperElementPoint>,
+    /// The CEA again with the contact zone's edge moved, where asked
+    /// (`analysis.contact_edge_points`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub contact_edge: Option<EdgeCheck>,
+}
+
+/// The point's modes with the edge of the swept pairs' contact zones moved
+/// ([`crate::analysis::contact_edge`]): what a few points at the edge, with a newton of force
+/// or nanometres of gap, decide of each mode.
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
+pub struct EdgeCheck {
+    /// Points asked to open, and to close.
+    pub points: usize,
+    /// Closed points opened (those of least normal force), and open points closed (those of
+    /// least gap): fewer than `points` where fewer were there.
+    pub opened: usize,
+    pub closed: usize,
+    /// For each of the point's eigenvalues, in their order, its nearest with the points
+    /// opened, and with the points closed.
+    pub with_opened: Vec<ComplexMode>,
+    pub with_closed: Vec<ComplexMode>,
+    /// The two CEAs' time.
+    pub seconds: f64,
+}
+
+impl EdgeCheck {
+    /// The largest relative change of eigenvalue `i`'s frequency either way.
+    pub fn frequency_change(&self, i: usize, base: &ComplexMode) -> f64 {
+        [&self.with_opened, &self.with_closed]
+            .iter()
+            .filter_map(|list| list.get(i))
+            .map(|m| (m.frequency_hz / base.frequency_hz - 1.0).abs())
+            .fold(0.0, f64::max)
+    }
+
+    /// Whether eigenvalue `i` (unstable at the point) is stable with the edge moved either
+    /// way.
+    pub fn loses_instability(&self, i: usize) -> bool {
+        [&self.with_opened, &self.with_closed]
+            .iter()
+            .any(|list| list.get(i).is_some_and(|m| !m.unstable))
+    }
 }
 
 impl SweepPointReport {

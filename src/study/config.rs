@@ -74,6 +74,15 @@ pub struct AnalysisSpec {
     /// Consistent mass rule: "exact" or "gauss4".
     #[serde(default)]
     pub mass_rule: crate::fem::element::MassRule,
+    /// At each friction value of a full-size model, the CEA again with this many points of
+    /// the disc/pad contact zones' edge opened, then closed (`analysis::contact_edge`): which
+    /// modes and instabilities the mesh's edge decides. 0: not done (two more CEAs a point).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub contact_edge_points: usize,
+}
+
+fn is_zero(n: &usize) -> bool {
+    *n == 0
 }
 
 impl Default for AnalysisSpec {
@@ -86,6 +95,7 @@ impl Default for AnalysisSpec {
             unstable_threshold: default_threshold(),
             window: default_window(),
             mass_rule: Default::default(),
+            contact_edge_points: 0,
         }
     }
 }

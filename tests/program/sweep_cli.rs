@@ -1018,3 +1018,83 @@ fn every_pair_reduced_is_a_model_that_sweeps_past_its_stiff_ties() {
     );
     let _ = std::fs::remove_dir_all(&out);
 }
+
+/// `--contact-edge-points 4` on tiny-caliper without friction (0-1000 Hz: five modes, 7 % or
+/// more apart): four of the full model's disc/pad points opened and four closed at the
+/// point, each mode's nearest eigenvalue recorded. Closing points adds stiffness of rank one
+/// each and opening takes it away, so (Weyl) every frequency rises or stays with the points
+/// closed and falls or stays with them opened; the modes being further apart than any such
+/// change, the nearest is the same mode. 1 and 2 ranks give the same eigenvalues.
+#[test]
+fn the_contact_edge_check_moves_each_mode_the_way_the_stiffness_goes() {
+    let dir = scratch("contact-edge");
+    let mut runs = Vec::new();
+    for ranks in [1, 2].into_iter().filter(|&r| common::ranks_wanted(r)) {
+        let out = dir.join(format!("ranks{ranks}"));
+        let o = common::mpirun(
+            ranks,
+            squeal(),
+            &[
+                "-q",
+                "sweep",
+                "--preset",
+                "tiny-caliper",
+                "--friction",
+                "0",
+                "--fmax",
+                "1000",
+                "--contact-edge-points",
+                "4",
+                "-o",
+                out.to_str().unwrap(),
+            ],
+        );
+        assert!(o.status.success(), "{}", common::text(&o));
+        let doc: squeal::results::SweepDocument =
+            squeal::results::read_document(&out.join("sweep.json")).unwrap();
+        runs.push(doc.points[0].clone());
+    }
+    for point in &runs {
+        let edge = point
+            .contact_edge
+            .as_ref()
+            .expect("the edge check was asked for");
+        assert_eq!((edge.points, edge.opened, edge.closed), (4, 4, 4));
+        assert_eq!(point.eigenvalues.len(), 5, "{:?}", point.eigenvalues);
+        let mut moved = 0.0_f64;
+        for (i, m) in point.eigenvalues.iter().enumerate() {
+            let (open, shut) = (&edge.with_opened[i], &edge.with_closed[i]);
+            // The geometric part of the contact tangent (force over face size) is not
+            // rank-one: 1e-4 of omega^2, 5e-5 of the frequency, covers it.
+            let slack = 5e-5 * m.frequency_hz;
+            assert!(
+                open.frequency_hz <= m.frequency_hz + slack,
+                "{m:?} {open:?}"
+            );
+            assert!(
+                shut.frequency_hz >= m.frequency_hz - slack,
+                "{m:?} {shut:?}"
+            );
+            moved = moved.max(edge.frequency_change(i, m));
+        }
+        // Something moved: the check is not the unchanged model's CEA again.
+        assert!(moved > 1e-4, "{moved}");
+    }
+    if let [one, two] = &runs[..] {
+        let (a, b) = (
+            one.contact_edge.as_ref().unwrap(),
+            two.contact_edge.as_ref().unwrap(),
+        );
+        for (x, y) in a
+            .with_opened
+            .iter()
+            .chain(&a.with_closed)
+            .zip(b.with_opened.iter().chain(&b.with_closed))
+        {
+            assert!(
+                (x.lambda - y.lambda).norm() <= 1e-9 * x.lambda.norm(),
+                "{x:?} {y:?}"
+            );
+        }
+    }
+}

@@ -7,6 +7,7 @@ use super::{
     UnstableShape,
 };
 use crate::analysis::cea::{self, CeaOptions, RayleighDamping};
+use crate::analysis::contact_edge::{self, EdgeMove};
 use crate::analysis::continuation::{self, FrictionState};
 use crate::analysis::pencil::{self, Pencil};
 use crate::analysis::restraint::{self, Body};
@@ -17,7 +18,7 @@ use crate::model::{self, Model, Operators};
 use crate::petsc::{Comm, Matrix};
 use crate::reduce;
 use crate::results::{
-    ContactMap, ContactMapPoint, ModelInfo, PairReport, SurfacePressure, SurfaceShape,
+    ContactMap, ContactMapPoint, EdgeCheck, ModelInfo, PairReport, SurfacePressure, SurfaceShape,
     SweepPointReport,
 };
 use crate::study::bench::peak_rss_mib;
@@ -53,6 +54,9 @@ pub struct FullModel<'rt> {
     /// The reduced interface this model was made with (none for the full model): what a
     /// super-element is built on.
     pub(super) reduced: Option<reduce::ReducedInterface>,
+    /// At each point, the CEA again with this many points of the contact zone's edge opened,
+    /// then closed ([`crate::analysis::contact_edge`]); 0: not done.
+    edge_points: usize,
 }
 
 /// A swept pair's pad surface: per contact point, the surface nodes it stands for with their
@@ -175,6 +179,7 @@ impl<'rt> FullModel<'rt> {
             ..Default::default()
         };
         let mut full = Self::new(comm, model, operators, cea, study.analysis.increments);
+        full.edge_points = study.analysis.contact_edge_points;
         if let Some((spread, reduced)) = reduction {
             full.spread = spread;
             full.reduced = Some(reduced);
@@ -222,6 +227,7 @@ impl<'rt> FullModel<'rt> {
             previous: None,
             earlier: None,
             reduced: None,
+            edge_points: 0,
         }
     }
 
@@ -551,39 +557,50 @@ impl<'rt> FrictionModel<'rt> for FullModel<'rt> {
         if self.free_mass.is_none() {
             self.free_mass = pencil::projected_mass(&self.operators)?;
         }
-        // The tangent of the perturbation: the last increment's consistent one (CalculiX's for
-        // pairs with its law: contact::variant), formed in K for the CEA (`analysis::pencil`).
         let after = &equilibrium.slip_after;
-        let (free_mass, damping, options) = (&self.free_mass, self.damping.as_ref(), &self.cea);
-        let mut result = pencil::with_tangent(
-            &mut self.operators,
-            |ops, scale| {
-                let Operators {
-                    dofs, stiffness, ..
-                } = ops;
-                statics::add_perturbation_tangent(
-                    comm, stiffness, dofs, pairs, slip, after, u, scale,
-                )
-                .map_err(|source| StudyError::Tangent { mu, source })
-            },
-            |ops| {
-                let pencil = match free_mass {
-                    Some(m) => Pencil::with_mass(ops, m)?,
-                    None => Pencil::of(ops)?,
+        let mut result = self.cea_about(comm, mu, pairs, slip, after, u)?;
+        let t_edge = Instant::now();
+        let edge = if self.edge_points > 0 {
+            let mut check = EdgeCheck {
+                points: self.edge_points,
+                ..Default::default()
+            };
+            for direction in [EdgeMove::Open, EdgeMove::Close] {
+                let (moved, count) = contact_edge::moved_edge(
+                    pairs,
+                    &self.model.swept,
+                    &equilibrium.contact,
+                    u,
+                    self.edge_points,
+                    direction,
+                );
+                let modes = if count == 0 {
+                    result.modes.clone()
+                } else {
+                    let moved = self.cea_about(comm, mu, pairs, slip, after, &moved)?;
+                    result
+                        .modes
+                        .iter()
+                        .map(|m| nearest(&moved.modes, m).unwrap_or_else(|| m.clone()))
+                        .collect()
                 };
-                collective(
-                    comm,
-                    cea::solve(comm, pencil.stiffness(), pencil.mass(), damping, options)
-                        .map_err(|source| StudyError::CeaAt { mu, source }),
-                )
-            },
-        )?;
+                match direction {
+                    EdgeMove::Open => (check.opened, check.with_opened) = (count, modes),
+                    EdgeMove::Close => (check.closed, check.with_closed) = (count, modes),
+                }
+            }
+            check.seconds = t_edge.elapsed().as_secs_f64();
+            Some(check)
+        } else {
+            None
+        };
         for (re, im) in &mut result.shapes {
             pencil::expand_shape(&self.operators, re)?;
             pencil::expand_shape(&self.operators, im)?;
         }
         let Operators { dofs, .. } = &self.operators;
-        let cea_seconds = t_cea.elapsed().as_secs_f64();
+        // The edge's CEAs are their own cost (EdgeCheck::seconds).
+        let cea_seconds = t_cea.elapsed().as_secs_f64() - edge.as_ref().map_or(0.0, |c| c.seconds);
         // Friction moves modes little from one point to the next: the next CEA sizes its
         // first window on this one's count.
         self.cea.expected_modes = Some(result.modes.len());
@@ -638,6 +655,7 @@ impl<'rt> FrictionModel<'rt> for FullModel<'rt> {
             static_seconds,
             cea_seconds,
             cea_shifts: result.targets.len(),
+            contact_edge: edge,
             seconds: t.elapsed().as_secs_f64(),
             peak_rss_mib_max_rank: peak[0],
             peak_rss_mib_all_ranks: peak_sum[0],
@@ -839,6 +857,58 @@ fn fields_with(
             constraint_forces: None,
         }
     }
+}
+
+impl<'rt> FullModel<'rt> {
+    /// The CEA about the equilibrium `u` at friction `mu`: the tangent of the perturbation
+    /// (the last increment's consistent one, CalculiX's for pairs with its law:
+    /// contact::variant) formed in K for the CEA (`analysis::pencil`), taken out after.
+    fn cea_about(
+        &mut self,
+        comm: Comm<'rt>,
+        mu: f64,
+        pairs: &[contact::ContactPair],
+        slip: &SlipHistory,
+        after: &SlipHistory,
+        u: &[[f64; 3]],
+    ) -> Result<cea::CeaResult<'rt>, StudyError> {
+        let (free_mass, damping, options) = (&self.free_mass, self.damping.as_ref(), &self.cea);
+        pencil::with_tangent(
+            &mut self.operators,
+            |ops, scale| {
+                let Operators {
+                    dofs, stiffness, ..
+                } = ops;
+                statics::add_perturbation_tangent(
+                    comm, stiffness, dofs, pairs, slip, after, u, scale,
+                )
+                .map_err(|source| StudyError::Tangent { mu, source })
+            },
+            |ops| {
+                let pencil = match free_mass {
+                    Some(m) => Pencil::with_mass(ops, m)?,
+                    None => Pencil::of(ops)?,
+                };
+                collective(
+                    comm,
+                    cea::solve(comm, pencil.stiffness(), pencil.mass(), damping, options)
+                        .map_err(|source| StudyError::CeaAt { mu, source }),
+                )
+            },
+        )
+    }
+}
+
+/// The mode of `modes` nearest to `m` in eigenvalue.
+fn nearest(modes: &[cea::ComplexMode], m: &cea::ComplexMode) -> Option<cea::ComplexMode> {
+    modes
+        .iter()
+        .min_by(|a, b| {
+            (a.lambda - m.lambda)
+                .norm()
+                .total_cmp(&(b.lambda - m.lambda).norm())
+        })
+        .cloned()
 }
 
 #[cfg(test)]

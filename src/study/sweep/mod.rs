@@ -126,6 +126,9 @@ pub struct SweepArgs {
     pub sliding: Option<crate::contact::SlidingDirection>,
     /// A deck's contact law variant (study key `mesh.contact_variant`).
     pub contact_variant: Option<crate::contact::ContactVariant>,
+    /// Points of the contact zones' edge moved at each point (study key
+    /// `analysis.contact_edge_points`).
+    pub contact_edge_points: Option<usize>,
 }
 
 /// What `squeal sweep`'s super-element flags change in the study's `[reduction]`.
@@ -237,6 +240,9 @@ pub fn study_from_args(
     }
     if let Some(f) = args.max_frequency_hz {
         study.analysis.max_frequency_hz = f;
+    }
+    if let Some(r) = args.contact_edge_points {
+        study.analysis.contact_edge_points = r;
     }
     if let Some(o) = args.output {
         study.output = o;

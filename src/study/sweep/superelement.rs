@@ -742,6 +742,7 @@ impl<'rt> FrictionModel<'rt> for SuperElementModel<'rt> {
                     seconds: t.elapsed().as_secs_f64(),
                     peak_rss_mib_max_rank: peak[0],
                     peak_rss_mib_all_ranks: peak_sum[0],
+                    contact_edge: None,
                     superelement: Some(SuperElementPoint {
                         strategy: self.settings.strategy.name().into(),
                         index: current.index,
@@ -826,6 +827,7 @@ fn empty_report(mu: f64, seconds: f64, peak: f64, peak_sum: f64) -> SweepPointRe
         peak_rss_mib_max_rank: peak,
         peak_rss_mib_all_ranks: peak_sum,
         superelement: None,
+        contact_edge: None,
     }
 }
 
