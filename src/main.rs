@@ -59,7 +59,8 @@ struct StudyFlags {
     /// At each friction value of a full-size model, the CEA again with this many points of
     /// the disc/pad contact zones' edge opened (least force), then closed (least gap): which
     /// modes and instabilities the mesh's contact edge decides (two more CEAs a point; study
-    /// key `analysis.contact_edge_points`).
+    /// key `analysis.contact_edge_points`). Node-to-surface and point contacts are moved; a
+    /// reduced interface's patch laws are not (a model with nothing to move is not checked).
     #[arg(long, value_name = "POINTS")]
     contact_edge_points: Option<usize>,
     /// Write the study (after the command-line changes; for `study`, its [comparison] plan

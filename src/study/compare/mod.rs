@@ -18,11 +18,13 @@
 //! MAC on the pad surface nodes both models share, at the reference's mu of largest real
 //! part, from the folders' contact.json) is taken; without shapes, the nearest in frequency.
 
+mod edge;
 pub mod error;
 mod matching;
 mod output;
 mod statics;
 
+pub use edge::{EdgeSensitiveMode, EDGE_NOTED};
 pub use error::CompareError;
 pub use matching::MATCH_TOLERANCE;
 pub use statics::{patch_pressure_l2, StaticComparison, ZoneComparison};
@@ -64,6 +66,11 @@ pub struct InstabilityComparison {
     /// model's own tracks of this instability: where the two trackings paired close modes
     /// differently (or the other model's mode moved past a neighbour).
     pub track_disagreements: Vec<f64>,
+    /// Where the reference checked its own contact edge (`--contact-edge-points`): the
+    /// friction values at which this instability is stable with the edge moved; `None`
+    /// where it did not check.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reference_on_edge: Option<Vec<f64>>,
     /// Which reference instability this is (its index), for grouping the plots.
     #[serde(skip)]
     pub reference_index: usize,
@@ -148,6 +155,10 @@ pub struct Comparison {
     /// where both sweeps wrote it: what holds the pads, before any mode is computed.
     #[serde(default)]
     pub zones: Vec<ZoneComparison>,
+    /// The reference's modes its own contact edge moves by 1 % or more, where it checked
+    /// (`--contact-edge-points`).
+    #[serde(default)]
+    pub reference_edge: Vec<EdgeSensitiveMode>,
     /// What the comparison should be read with (models of other brakes).
     pub warnings: Vec<String>,
 }
@@ -231,6 +242,7 @@ pub fn compare(reference: &Path, others: &[PathBuf]) -> Result<Comparison, Compa
                 real_part_max_error: None,
                 per_friction: Vec::new(),
                 track_disagreements: Vec::new(),
+                reference_on_edge: edge::instability_on_edge(&r, ri),
                 reference_index: instabilities
                     .iter()
                     .filter(|c: &&InstabilityComparison| c.model == name)
@@ -316,6 +328,7 @@ pub fn compare(reference: &Path, others: &[PathBuf]) -> Result<Comparison, Compa
         statics,
         spectra,
         zones,
+        reference_edge: edge::sensitive_modes(&r),
         warnings,
     })
 }
@@ -436,6 +449,54 @@ mod tests {
         });
         std::fs::create_dir_all(dir).unwrap();
         store(dir, doc);
+    }
+
+    /// A reference that checked its contact edge: at mu 0.2 its instability's unstable mode
+    /// is stable with the edge's points closed, and at mu 0.1 the stable mode moves by 2 %
+    /// with them opened (listed), the unstable one by 0.5 % (not). Without a check, nothing
+    /// is said.
+    #[test]
+    fn the_reference_s_own_contact_edge_is_read_from_its_points() {
+        let dir = std::env::temp_dir().join(format!("squeal-compare-edge-{}", std::process::id()));
+        let (r, o) = (dir.join("r"), dir.join("o"));
+        write_sweep(&o, &[(1000.0, 1100.0), (1000.0, 1000.0)], 10.0);
+        write_sweep(&r, &[(1000.0, 1100.0), (1000.0, 1000.0)], 10.0);
+        let plain = compare(&r, std::slice::from_ref(&o)).unwrap();
+        assert_eq!(plain.instabilities[0].reference_on_edge, None);
+        assert!(plain.reference_edge.is_empty());
+
+        let mode = |f: f64, a: f64, unstable: bool| {
+            serde_json::json!({"frequency_hz": f, "real_part": a, "damping_ratio": 0.0,
+                               "unstable": unstable, "rigid_body": false, "residual": 0.0})
+        };
+        let mut doc: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(r.join("sweep.json")).unwrap()).unwrap();
+        doc["points"][0]["contact_edge"] = serde_json::json!({
+            "points": 4, "opened": 4, "closed": 4, "seconds": 1.0,
+            "with_opened": [mode(980.0, -10.0, false), mode(1105.5, 10.0, true)],
+            "with_closed": [mode(1000.0, -10.0, false), mode(1100.0, 10.0, true)],
+        });
+        doc["points"][1]["contact_edge"] = serde_json::json!({
+            "points": 4, "opened": 4, "closed": 4, "seconds": 1.0,
+            "with_opened": [mode(1000.0, -10.0, false), mode(1000.0, 10.0, true)],
+            "with_closed": [mode(1001.0, -1.0, false), mode(1001.0, -1.0, false)],
+        });
+        std::fs::write(r.join("sweep.json"), doc.to_string()).unwrap();
+        let c = compare(&r, std::slice::from_ref(&o)).unwrap();
+        assert_eq!(c.instabilities[0].reference_on_edge, Some(vec![0.2]));
+        assert_eq!(c.reference_edge.len(), 1, "{:?}", c.reference_edge);
+        let m = &c.reference_edge[0];
+        assert_eq!(
+            (m.friction, m.frequency_hz, m.opened_hz, m.points),
+            (0.1, 1000.0, 980.0, 4)
+        );
+        let md = c.markdown();
+        assert!(md.contains("## The reference's own contact edge"), "{md}");
+        assert!(
+            md.contains("**stable with the edge moved** at mu 0.20"),
+            "{md}"
+        );
+        let _ = std::fs::remove_dir_all(&dir);
     }
 
     /// Eqs. 12-14 by hand: per mu the two modes' relative errors add up.

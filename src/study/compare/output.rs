@@ -28,6 +28,68 @@ fn percent(x: Option<f64>) -> String {
 }
 
 impl Comparison {
+    /// The section on the reference's own contact edge, where it checked it: which of its
+    /// instabilities are stable with the edge moved, and which modes it moves by 1 % or more.
+    fn edge_section(&self) -> String {
+        let checked: Vec<&InstabilityComparison> = self
+            .instabilities
+            .iter()
+            .filter(|i| i.reference_on_edge.is_some())
+            .collect();
+        if checked.is_empty() && self.reference_edge.is_empty() {
+            return String::new();
+        }
+        let mut s = String::from(
+            "\n## The reference's own contact edge\n\n\
+             The reference's CEA again with a few points of its disc/pad contact zones' edge \
+             moved (the closed points of least force opened, the open points of least gap \
+             closed: `--contact-edge-points`). A result that changes with them is decided by \
+             how the full mesh resolves the edge of its contact zone: a reduced model that \
+             misses such an instability, or is off by as much on such a mode, differs from \
+             the full model on a result the full model itself does not resolve.\n\n",
+        );
+        let mut seen = Vec::new();
+        let mut rows = Vec::new();
+        for i in checked {
+            if seen.contains(&i.reference_index) {
+                continue;
+            }
+            seen.push(i.reference_index);
+            let at = i.reference_on_edge.as_deref().unwrap_or_default();
+            let verdict = if at.is_empty() {
+                "unstable with the edge moved either way".to_string()
+            } else {
+                let mus: Vec<String> = at.iter().map(|mu| format!("{mu:.2}")).collect();
+                format!("**stable with the edge moved** at mu {}", mus.join(", "))
+            };
+            rows.push(format!(
+                "| {:.1} Hz (onset mu {:.2}) | {verdict} |\n",
+                i.reference_frequency_hz, i.reference_onset_mu
+            ));
+        }
+        if !rows.is_empty() {
+            s.push_str("| reference instability | on the edge |\n|---|---|\n");
+            s.extend(rows);
+        }
+        if !self.reference_edge.is_empty() {
+            s.push_str(&format!(
+                "\nModes of the reference its edge moves by {:.0} % or more:\n\n\
+                 | mu | mode | points moved each way | edge closed / opened |\n|---|---|---|---|\n",
+                100.0 * super::EDGE_NOTED
+            ));
+            for m in &self.reference_edge {
+                s.push_str(&format!(
+                    "| {:.2} | {:.1} Hz | {} | {} |\n",
+                    m.friction,
+                    m.frequency_hz,
+                    m.points,
+                    m.shift_text()
+                ));
+            }
+        }
+        s
+    }
+
     /// The tables of compare.md.
     pub fn markdown(&self) -> String {
         let mut s = String::from("# squeal compare\n\n## Models\n\n");
@@ -101,6 +163,7 @@ impl Comparison {
                 }
             ));
         }
+        s.push_str(&self.edge_section());
         if !self.statics.is_empty() {
             s.push_str(
                 "\n## Static contact state and pressure (section 4.2)\n\n\

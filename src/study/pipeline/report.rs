@@ -310,10 +310,26 @@ impl Report {
                         }
                     }
                 }
+                // A missed instability the reference itself loses with its contact edge
+                // moved is said so where it is read.
+                let on_edge = i.reference_on_edge.as_deref().unwrap_or_default();
+                let found_cell = match (matched, on_edge.is_empty()) {
+                    (true, _) => "yes".to_string(),
+                    (false, true) => "**missed**".to_string(),
+                    (false, false) => format!(
+                        "**missed** (the reference's is stable with its contact edge moved, at \
+                         mu {})",
+                        on_edge
+                            .iter()
+                            .map(|mu| format!("{mu:.2}"))
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    ),
+                };
                 rows.push(vec![
                     format!("{key} Hz"),
                     format!("`{folder}`"),
-                    if matched { "yes" } else { "**missed**" }.into(),
+                    found_cell,
                     i.mac.map_or("-".into(), |m| format!("{m:.3}")),
                     percent(i.mean_error),
                     percent(i.min_error),
@@ -337,6 +353,34 @@ impl Report {
                     .to_vec(),
                     rows,
                 });
+            }
+            if c.instabilities
+                .iter()
+                .any(|i| i.reference_on_edge.is_some())
+            {
+                // Each reference instability once (it is listed once per model).
+                let mut fragile: Vec<String> = Vec::new();
+                for i in &c.instabilities {
+                    let f = format!("{:.1} Hz", i.reference_frequency_hz);
+                    if i.reference_on_edge.as_ref().is_some_and(|a| !a.is_empty())
+                        && !fragile.contains(&f)
+                    {
+                        fragile.push(f);
+                    }
+                }
+                blocks.push(Block::Paragraph(format!(
+                    "The reference's own contact edge (its CEA again with a few points of the \
+                     disc/pad zones' edge opened, then closed: `analysis.contact_edge_points`): \
+                     {}. An instability the reference loses that way is decided by how its mesh \
+                     resolves the edge of the contact zone, not by the brake: a reduced \
+                     interface that misses it differs from the full model on a result the full \
+                     model itself does not resolve.",
+                    if fragile.is_empty() {
+                        "every instability stays unstable with the edge moved either way".into()
+                    } else {
+                        format!("stable with the edge moved: {}", fragile.join(", "))
+                    }
+                )));
             }
             let spectra = &c.spectra;
             if !spectra.is_empty() {

@@ -590,7 +590,8 @@ impl<'rt> FrictionModel<'rt> for FullModel<'rt> {
                 }
             }
             check.seconds = t_edge.elapsed().as_secs_f64();
-            Some(check)
+            // A reduced interface's contacts are no candidates: nothing was checked.
+            (check.opened + check.closed > 0).then_some(check)
         } else {
             None
         };
