@@ -192,7 +192,36 @@ fn a_study_runs_its_stages_reports_them_and_reruns_only_what_changed() {
             assert!(report.contains(&row), "{row}\nnot in\n{report}");
         }
     }
+    // Friction value by friction value: every unstable eigenvalue of the full sweep at the
+    // shared values is counted once, and the report prints each model's count.
     let full = json(&out.join("full").join("sweep.json"));
+    for stage in ["compare-reduced", "compare-superelements"] {
+        let c = json(&out.join(stage).join("compare.json"));
+        let at = c["unstable_modes"].as_array().unwrap();
+        let count =
+            |key: &str| -> usize { at.iter().map(|u| u[key].as_u64().unwrap() as usize).sum() };
+        let unstable_in_full: usize = full["points"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|p| at.iter().any(|u| u["friction"] == p["friction"]))
+            .flat_map(|p| p["eigenvalues"].as_array().unwrap())
+            .filter(|m| m["unstable"] == Value::Bool(true))
+            .count();
+        assert_eq!(count("reference"), unstable_in_full, "{stage}");
+        let unmatched: usize = at
+            .iter()
+            .map(|u| u["unmatched"].as_array().unwrap().len())
+            .sum();
+        assert_eq!(count("matched") + unmatched, count("reference"), "{stage}");
+        let folder = Path::new(at[0]["model"].as_str().unwrap())
+            .file_name()
+            .unwrap()
+            .to_string_lossy()
+            .into_owned();
+        let said = format!("`{folder}` {} of {}", count("matched"), count("reference"));
+        assert!(report.contains(&said), "{said}\nnot in\n{report}");
+    }
     for i in full["instabilities"].as_array().unwrap() {
         let line = format!("| {:.1} Hz |", i["frequency_hz_at_max"].as_f64().unwrap());
         assert!(report.contains(&line), "{line}\n{report}");

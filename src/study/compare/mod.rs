@@ -23,11 +23,16 @@ pub mod error;
 mod matching;
 mod output;
 mod statics;
+mod unstable_modes;
 
 pub use edge::{EdgeSensitiveMode, EDGE_NOTED};
 pub use error::CompareError;
 pub use matching::MATCH_TOLERANCE;
 pub use statics::{patch_pressure_l2, StaticComparison, ZoneComparison};
+pub use unstable_modes::{
+    totals as unstable_mode_totals, UnmatchedMode, UnstableModeTotals, UnstableModesAt,
+    UNSTABLE_MODE_TOLERANCE,
+};
 
 use crate::analysis::spectrum_match::{match_spectra, SpectrumMatch};
 use crate::results::SweepDocument as Sweep;
@@ -159,6 +164,11 @@ pub struct Comparison {
     /// (`--contact-edge-points`).
     #[serde(default)]
     pub reference_edge: Vec<EdgeSensitiveMode>,
+    /// Per model and shared friction value, the reference's unstable modes with and without
+    /// an unstable mode of the model within 1 %, read from each point's eigenvalues apart
+    /// from tracking.
+    #[serde(default)]
+    pub unstable_modes: Vec<UnstableModesAt>,
     /// What the comparison should be read with (models of other brakes).
     pub warnings: Vec<String>,
 }
@@ -188,6 +198,7 @@ pub fn compare(reference: &Path, others: &[PathBuf]) -> Result<Comparison, Compa
     let mut statics = Vec::new();
     let mut spectra = Vec::new();
     let mut zones = Vec::new();
+    let mut unstable_modes = Vec::new();
     for dir in others {
         let o = Sweep::read(dir)?;
         let name = dir.display().to_string();
@@ -222,6 +233,7 @@ pub fn compare(reference: &Path, others: &[PathBuf]) -> Result<Comparison, Compa
                 spectrum: match_spectra(&frequencies(&r.points[k]), &frequencies(&o.points[j])),
             });
         }
+        unstable_modes.extend(unstable_modes::unstable_modes(&name, &r, &o, &shared));
         let matches = match_instabilities(reference, &r, dir, &o);
         let mut used = vec![false; o.instabilities.len()];
         for (ri, best) in r.instabilities.iter().zip(&matches) {
@@ -329,6 +341,7 @@ pub fn compare(reference: &Path, others: &[PathBuf]) -> Result<Comparison, Compa
         spectra,
         zones,
         reference_edge: edge::sensitive_modes(&r),
+        unstable_modes,
         warnings,
     })
 }

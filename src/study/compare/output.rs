@@ -90,6 +90,65 @@ impl Comparison {
         s
     }
 
+    /// Per model, whether each unstable mode of the reference has an unstable mode of the
+    /// model within 1 % at its own friction value, and which have not.
+    fn unstable_modes_section(&self) -> String {
+        if self.unstable_modes.is_empty() {
+            return String::new();
+        }
+        let mut s = format!(
+            "\n## Unstable modes friction value by friction value\n\n\
+             At each friction value both models computed, each unstable mode of the reference \
+             paired one to one with an unstable mode of the model within {:.0} % in frequency \
+             (nearest first), from the points' eigenvalues alone (no tracking).\n\n\
+             | model | reference unstable modes | with an unstable mode within {:.0} % | without | of those, decided by the reference's contact edge |\n\
+             |---|---|---|---|---|\n",
+            100.0 * super::UNSTABLE_MODE_TOLERANCE,
+            100.0 * super::UNSTABLE_MODE_TOLERANCE,
+        );
+        for t in super::unstable_modes::totals(&self.unstable_modes) {
+            s.push_str(&format!(
+                "| `{}` | {} | {} | {} | {} |\n",
+                t.model,
+                t.reference,
+                t.matched,
+                t.unmatched(),
+                t.on_edge.map_or("not checked".into(), |n| n.to_string())
+            ));
+        }
+        let rows: Vec<String> = self
+            .unstable_modes
+            .iter()
+            .flat_map(|u| {
+                u.unmatched.iter().map(move |m| {
+                    format!(
+                        "| `{}` | {:.2} | {:.1} Hz | {:.3e} 1/s | {} | {} |\n",
+                        u.model,
+                        u.friction,
+                        m.frequency_hz,
+                        m.real_part,
+                        m.nearest_unstable
+                            .map_or("none left".into(), |d| format!("{:.2} %", 100.0 * d)),
+                        match m.on_edge {
+                            Some(true) => "yes",
+                            Some(false) => "no",
+                            None => "-",
+                        }
+                    )
+                })
+            })
+            .collect();
+        if !rows.is_empty() {
+            s.push_str(
+                "\nThe reference's unstable modes without one:\n\n\
+                 | model | mu | reference mode | real part | the model's nearest unstable mode left | decided by the edge |\n\
+                 |---|---|---|---|---|---|\n",
+            );
+            s.extend(rows);
+        }
+        s
+    }
+
     /// The tables of compare.md.
     pub fn markdown(&self) -> String {
         let mut s = String::from("# squeal compare\n\n## Models\n\n");
@@ -163,6 +222,7 @@ impl Comparison {
                 }
             ));
         }
+        s.push_str(&self.unstable_modes_section());
         s.push_str(&self.edge_section());
         if !self.statics.is_empty() {
             s.push_str(

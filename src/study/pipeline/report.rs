@@ -382,6 +382,39 @@ impl Report {
                     }
                 )));
             }
+            let totals = crate::study::compare::unstable_mode_totals(&c.unstable_modes);
+            if !totals.is_empty() {
+                let said: Vec<String> = totals
+                    .iter()
+                    .map(|t| {
+                        let folder = Path::new(&t.model)
+                            .file_name()
+                            .map_or(t.model.clone(), |n| n.to_string_lossy().into_owned());
+                        let edge = match t.on_edge {
+                            Some(n) if t.unmatched() > 0 => {
+                                format!(
+                                    " ({n} of the {} without decided by the edge)",
+                                    t.unmatched()
+                                )
+                            }
+                            _ => String::new(),
+                        };
+                        format!("`{folder}` {} of {}{edge}", t.matched, t.reference)
+                    })
+                    .collect();
+                blocks.push(Block::Paragraph(format!(
+                    "Friction value by friction value, apart from tracking: the reference's \
+                     unstable modes with an unstable mode of the model within {:.0} % (one to one): \
+                     {}.{}",
+                    100.0 * crate::study::compare::UNSTABLE_MODE_TOLERANCE,
+                    said.join("; "),
+                    if totals.iter().any(|t| t.unmatched() > 0) {
+                        " compare.md lists those without."
+                    } else {
+                        ""
+                    }
+                )));
+            }
             let spectra = &c.spectra;
             if !spectra.is_empty() {
                 blocks.push(Block::Paragraph(
