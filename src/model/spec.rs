@@ -7,7 +7,7 @@ use crate::mesh::brake::BrakeParams;
 use std::path::PathBuf;
 
 /// The model tables of a study, borrowed from it.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, serde::Serialize)]
 pub struct ModelSpec<'a> {
     pub mesh: &'a MeshSpec,
     pub materials: &'a [MaterialSpec],

@@ -99,7 +99,8 @@ pub struct SuperElementHeader {
     /// its name and each point's state, open, stick or slip (a change means a new
     /// super-element).
     pub other_contacts: Vec<(String, Vec<crate::contact::Status>)>,
-    /// Hashes of the mesh and of the study it came from (hex), to refuse another's.
+    /// Hashes of the mesh and of the settings it came from (hex: the model tables, the
+    /// reduction and the analysis of the study), to refuse another's.
     pub mesh_hash: String,
     pub study_hash: String,
     pub boundary: Vec<BoundaryPair>,

@@ -203,7 +203,7 @@ pub enum StudyError {
         #[source]
         source: serde_json::Error,
     },
-    /// The study cannot be put as TOML (`--write-study`, the super-element's study hash).
+    /// The study cannot be put as TOML (`--write-study`).
     #[error("the study as TOML: {source}")]
     StudyToml {
         #[source]

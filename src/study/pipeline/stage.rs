@@ -12,7 +12,7 @@
 
 use crate::mesh::hash::{bytes_hash, text_hash};
 use crate::study::config::{ReductionSpec, Study};
-use std::path::PathBuf;
+use crate::study::sweep::SweepSettings;
 
 /// What a stage computes.
 #[derive(Clone, Debug, PartialEq)]
@@ -67,16 +67,14 @@ fn key_version() -> &'static str {
     })
 }
 
-/// The study of a sweep stage as hashed: the output folder is where the result goes, not
-/// what it is, and the comparison plan is not the sweep's business.
+/// The study of a sweep stage as hashed: what its models are made from
+/// ([`SweepSettings`]), not the output folder (where the result goes, not what it is) nor
+/// the comparison plan.
 fn sweep_key(study: &Study, mesh_bytes: &str) -> String {
-    let mut s = study.clone();
-    s.output = PathBuf::new();
-    s.comparison = None;
-    let text = toml::to_string(&s).unwrap_or_else(|e| format!("unserialisable study: {e}"));
     text_hash(&format!(
-        "{}\n{text}\nmesh file {mesh_bytes}",
-        key_version()
+        "{}\n{}\nmesh file {mesh_bytes}",
+        key_version(),
+        SweepSettings::of(study, "").hash()
     ))
 }
 

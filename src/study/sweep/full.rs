@@ -2,6 +2,7 @@
 //! reduced-interface model (a full-size model whose disc/pad interface is reduced). SNES
 //! gives the sliding equilibrium, SLEPc the CEA about it.
 
+use super::SweepSettings;
 use super::{
     EquilibriumState, FrictionModel, ModelCheckpoint, PathPoint, PointFields, PointOutcome,
     UnstableShape,
@@ -22,7 +23,6 @@ use crate::results::{
     SweepPointReport,
 };
 use crate::study::bench::peak_rss_mib;
-use crate::study::config::Study;
 use crate::study::report::collective;
 use crate::study::StudyError;
 use num_complex::Complex64;
@@ -124,15 +124,17 @@ fn unloaded(model: &Model) -> Option<String> {
 }
 
 impl<'rt> FullModel<'rt> {
-    /// Builds and assembles the model of a study (collective; errors name the study file
-    /// and key).
-    pub fn from_study(comm: Comm<'rt>, study: &Study, file: &str) -> Result<Self, StudyError> {
-        let local = Model::from_spec(&study.model_spec())
+    /// Builds and assembles the model of a sweep (collective; errors name the settings'
+    /// source and key).
+    pub fn from_settings(comm: Comm<'rt>, settings: &SweepSettings) -> Result<Self, StudyError> {
+        let file = settings.source;
+        let analysis = settings.analysis;
+        let local = Model::from_spec(&settings.model)
             .map_err(|source| StudyError::StudyModel {
                 file: file.to_string(),
                 source,
             })
-            .and_then(|model| match &study.reduction {
+            .and_then(|model| match settings.reduction {
                 None => Ok((model, None)),
                 Some(r) => r
                     .settings()
@@ -164,8 +166,8 @@ impl<'rt> FullModel<'rt> {
                 }
             }
         }
-        let operators = model::assemble(comm, &model, study.analysis.mass_rule)?;
-        let damping = match (study.analysis.damping, &operators.constraints) {
+        let operators = model::assemble(comm, &model, analysis.mass_rule)?;
+        let damping = match (analysis.damping, &operators.constraints) {
             (Some(d), None) => Some(d.matrix(&operators.stiffness, &operators.mass)?),
             (Some(d), Some(t)) => {
                 Some(t.project(&d.matrix(&operators.stiffness, &operators.mass)?)?)
@@ -173,18 +175,18 @@ impl<'rt> FullModel<'rt> {
             (None, _) => None,
         };
         let cea = CeaOptions {
-            max_frequency_hz: study.analysis.max_frequency_hz,
-            unstable_threshold: study.analysis.unstable_threshold,
-            modes_per_target: study.analysis.window,
+            max_frequency_hz: analysis.max_frequency_hz,
+            unstable_threshold: analysis.unstable_threshold,
+            modes_per_target: analysis.window,
             ..Default::default()
         };
-        let mut full = Self::new(comm, model, operators, cea, study.analysis.increments);
-        full.edge_points = study.analysis.contact_edge_points;
+        let mut full = Self::new(comm, model, operators, cea, analysis.increments);
+        full.edge_points = analysis.contact_edge_points;
         if let Some((spread, reduced)) = reduction {
             full.spread = spread;
             full.reduced = Some(reduced);
         }
-        if let (Some(rayleigh), Some(matrix)) = (study.analysis.damping, damping) {
+        if let (Some(rayleigh), Some(matrix)) = (analysis.damping, damping) {
             full = full.with_damping(rayleigh, matrix);
         }
         Ok(full)

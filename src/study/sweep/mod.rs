@@ -12,11 +12,13 @@ mod checkpoint;
 mod full;
 mod output;
 pub mod point_cache;
+mod settings;
 mod superelement;
 
 pub use checkpoint::{EquilibriumState, ModelCheckpoint, PathPoint, SuperElementState};
 pub use full::{equilibrium_fields, FullModel};
 pub use output::write_fields;
+pub use settings::SweepSettings;
 pub use superelement::{SuperElementModel, SuperElementSettings};
 
 use super::config::{ReductionSpec, Study};
@@ -316,7 +318,7 @@ pub fn superelement_command(
         )),
     )?;
     let started = Instant::now();
-    let mut model = SuperElementModel::from_study(comm, &study, &name)?;
+    let mut model = SuperElementModel::from_settings(comm, &SweepSettings::of(&study, &name))?;
     let mu = model.settings().friction;
     let se = model.make(comm, mu)?;
     let written = if comm.rank() == 0 {
@@ -359,19 +361,20 @@ pub fn run(
         cache,
         inputs: study.input_files(Some(Path::new(file))),
     };
+    let settings = SweepSettings::of(study, file);
     if study
         .reduction
         .as_ref()
         .is_some_and(|r| r.superelements.is_some())
     {
-        let mut model = SuperElementModel::from_study(comm, study, file)?;
+        let mut model = SuperElementModel::from_settings(comm, &settings)?;
         let summary = sweep(comm, &mut model, &plan)?;
         if comm.rank() == 0 {
             println!("super-elements built: {}", model.built());
         }
         return Ok(summary);
     }
-    let mut model = FullModel::from_study(comm, study, file)?;
+    let mut model = FullModel::from_settings(comm, &settings)?;
     sweep(comm, &mut model, &plan)
 }
 

@@ -12,6 +12,7 @@
 //! super-element of a sweep shares.
 
 use super::full::{mesh_part, FullModel};
+use super::SweepSettings;
 use super::{
     EquilibriumState, FrictionModel, ModelCheckpoint, PointOutcome, SuperElementState,
     UnstableShape,
@@ -31,7 +32,6 @@ use crate::results::{
     ModelInfo, PairReport, SuperElementInfo, SuperElementPoint, SweepPointReport,
 };
 use crate::study::bench::peak_rss_mib;
-use crate::study::config::Study;
 use crate::study::report::collective;
 use crate::study::StudyError;
 use faer::Mat;
@@ -116,22 +116,22 @@ struct Dense {
 }
 
 impl<'rt> SuperElementModel<'rt> {
-    /// The reduced-interface model of a study whose `[reduction]` asks for super-elements.
+    /// The reduced-interface model of a sweep whose `[reduction]` asks for super-elements.
     /// Collective.
-    pub fn from_study(comm: Comm<'rt>, study: &Study, file: &str) -> Result<Self, StudyError> {
-        let reduction = study
+    pub fn from_settings(comm: Comm<'rt>, sweep: &SweepSettings) -> Result<Self, StudyError> {
+        let file = sweep.source;
+        let reduction = sweep
             .reduction
-            .as_ref()
             .filter(|r| r.superelements.is_some())
             .ok_or_else(|| StudyError::NoSuperElements {
                 file: file.to_string(),
             })?;
-        if study.analysis.damping.is_some() {
+        if sweep.analysis.damping.is_some() {
             return Err(StudyError::DampedSuperElements {
                 file: file.to_string(),
             });
         }
-        let base = FullModel::from_study(comm, study, file)?;
+        let base = FullModel::from_settings(comm, sweep)?;
         let swept: Vec<usize> = base
             .model
             .swept
@@ -142,7 +142,7 @@ impl<'rt> SuperElementModel<'rt> {
         if let Some(k_linear) = reduction.k_linear {
             check_k_linear(&base.model, &swept, k_linear).map_err(StudyError::collective)?;
         }
-        let max_frequency_hz = study.analysis.max_frequency_hz;
+        let max_frequency_hz = sweep.analysis.max_frequency_hz;
         let settings = SuperElementSettings {
             strategy: reduction.superelements.unwrap_or(Strategy::PerFriction),
             friction: reduction.superelement_friction.unwrap_or(0.5),
@@ -154,13 +154,11 @@ impl<'rt> SuperElementModel<'rt> {
                 k_cubic: reduction.k_cubic.unwrap_or(0.0),
             },
             max_frequency_hz,
-            unstable_threshold: study.analysis.unstable_threshold,
+            unstable_threshold: sweep.analysis.unstable_threshold,
         };
-        let study_text =
-            toml::to_string(study).map_err(|source| StudyError::StudyToml { source })?;
         Ok(SuperElementModel {
             mesh_hash: hash::mesh_hash(&base.model.mesh),
-            study_hash: hash::text_hash(&study_text),
+            study_hash: sweep.hash(),
             base,
             swept,
             settings,
