@@ -122,13 +122,18 @@ impl Comparison {
             .flat_map(|u| {
                 u.unmatched.iter().map(move |m| {
                     format!(
-                        "| `{}` | {:.2} | {:.1} Hz | {:.3e} 1/s | {} | {} |\n",
+                        "| `{}` | {:.2} | {:.1} Hz | {:.3e} 1/s | {} | {} | {} |\n",
                         u.model,
                         u.friction,
                         m.frequency_hz,
                         m.real_part,
                         m.nearest_unstable
                             .map_or("none left".into(), |d| format!("{:.2} %", 100.0 * d)),
+                        m.model_pair_hz.map_or("-".into(), |[lo, hi]| format!(
+                            "{lo:.1} / {hi:.1} Hz ({:.2} % apart; the reference's 2a / omega {:.2} %)",
+                            100.0 * (hi - lo) / m.frequency_hz,
+                            100.0 * m.real_part / (std::f64::consts::PI * m.frequency_hz)
+                        )),
                         match m.on_edge {
                             Some(true) => "yes",
                             Some(false) => "no",
@@ -141,8 +146,8 @@ impl Comparison {
         if !rows.is_empty() {
             s.push_str(
                 "\nThe reference's unstable modes without one:\n\n\
-                 | model | mu | reference mode | real part | the model's nearest unstable mode left | decided by the edge |\n\
-                 |---|---|---|---|---|---|\n",
+                 | model | mu | reference mode | real part | the model's nearest unstable mode left | the model's two modes within 1 % there (stable: not coupled) | decided by the edge |\n\
+                 |---|---|---|---|---|---|---|\n",
             );
             s.extend(rows);
         }

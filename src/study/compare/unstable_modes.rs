@@ -38,6 +38,14 @@ pub struct UnmatchedMode {
     /// The relative frequency distance to the model's nearest unstable mode left unpaired,
     /// if it has one.
     pub nearest_unstable: Option<f64>,
+    /// The model's two uncoupled modes nearest in frequency (neither unstable nor the stable
+    /// twin of an unstable one), when both are within the tolerance: the pair a mode-coupling
+    /// instability is made of is there, not coupled. In the two-mode model of mode coupling,
+    /// omega^2 = m +/- sqrt(D), their relative gap is sqrt(D) / omega^2 and the reference's
+    /// 2 a / omega is sqrt(-D) / omega^2: how far each sits from coalescence (D = 0), on
+    /// either side of it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub model_pair_hz: Option<[f64; 2]>,
     /// Where the reference checked its contact edge: whether this mode is stable, or moves
     /// by the tolerance or more, with the edge moved (the full mesh does not resolve it to
     /// the tolerance).
@@ -106,6 +114,26 @@ fn edge_decides(edge: &EdgeCheck, n: usize, mode: &ComplexMode) -> bool {
     edge.loses_instability(n) || edge.frequency_change(n, mode) >= UNSTABLE_MODE_TOLERANCE
 }
 
+/// The two uncoupled modes of `modes` nearest to `f`, in ascending frequency, when both are
+/// within the tolerance of it: not unstable, and not at the frequency of an unstable one (its
+/// stable twin, lambda's conjugate pair -a + i b).
+fn uncoupled_pair(modes: &[ComplexMode], f: f64) -> Option<[f64; 2]> {
+    let coupled = |g: f64| {
+        modes
+            .iter()
+            .any(|m| m.unstable && (m.frequency_hz - g).abs() <= 1e-9 * g)
+    };
+    let mut near: Vec<f64> = modes
+        .iter()
+        .map(|m| m.frequency_hz)
+        .filter(|&g| (g / f - 1.0).abs() <= UNSTABLE_MODE_TOLERANCE && !coupled(g))
+        .collect();
+    near.sort_by(|x, y| (x / f - 1.0).abs().total_cmp(&(y / f - 1.0).abs()));
+    let mut two = [*near.first()?, *near.get(1)?];
+    two.sort_by(f64::total_cmp);
+    Some(two)
+}
+
 /// Pairs the reference's unstable modes with the model's one to one, the closest pairs in
 /// relative frequency first, and keeps those within the tolerance.
 pub fn unstable_modes_at(
@@ -148,6 +176,7 @@ pub fn unstable_modes_at(
                 .filter(|&&b| !o_used[b])
                 .map(|&b| distance(a, b))
                 .min_by(f64::total_cmp),
+            model_pair_hz: uncoupled_pair(o, r[a].frequency_hz),
             on_edge: reference
                 .contact_edge
                 .as_ref()
@@ -231,6 +260,7 @@ mod tests {
         assert_eq!((b.frequency_hz, b.on_edge), (3000.0, Some(true)));
         assert!(close(b.nearest_unstable, 100.0 / 3000.0), "{b:?}");
         assert_eq!(u.unmatched_off_edge(), 1);
+        assert_eq!((a.model_pair_hz, b.model_pair_hz), (None, None));
         let twice = totals(&[u.clone(), u.clone()]);
         assert_eq!(twice.len(), 1);
         let t = &twice[0];
@@ -241,6 +271,23 @@ mod tests {
 
         // Without the reference's edge check nothing is said about the edge; a model with
         // every mode is matched in full.
+        // The pair of a mode-coupling instability present, stable, 0.5 % apart.
+        // (1004 Hz is unstable, its twin at -3 1/s coupled with it: neither is taken.)
+        let uncoupled = point(
+            &[
+                (995.0, 0.0),
+                (1002.0, 0.0),
+                (1004.0, -3.0),
+                (1004.0, 3.0),
+                (1030.0, 0.0),
+            ],
+            None,
+        );
+        let u = unstable_modes_at("m", &reference, &uncoupled);
+        let a = &u.unmatched[0];
+        assert_eq!(a.frequency_hz, 1000.0);
+        assert_eq!(a.model_pair_hz, Some([995.0, 1002.0]));
+
         let plain = point(&base, None);
         let u = unstable_modes_at("m", &plain, &other);
         assert!(u.unmatched.iter().all(|m| m.on_edge.is_none()));
