@@ -135,6 +135,10 @@ pub struct ComplexMode {
     pub rigid_body: bool,
     /// SLEPc's relative residual of the pair.
     pub residual: f64,
+    /// Where the mode's kinetic energy is: each body's x^H M_b x over x^H M x (summing to
+    /// 1; [`crate::fem::body_energy`]). Given for unstable modes of models with a mesh.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub body_shares: Option<std::collections::BTreeMap<String, f64>>,
     #[serde(skip)]
     pub lambda: Complex64,
 }
@@ -216,6 +220,7 @@ pub fn mode_from_lambda(
         unstable: !rigid_body && is_unstable(lambda, threshold),
         rigid_body,
         residual,
+        body_shares: None,
         lambda,
     }
 }

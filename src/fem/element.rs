@@ -311,6 +311,26 @@ pub fn mass(
     density: f64,
     rule: MassRule,
 ) -> Result<ElementMatrix, ElementError> {
+    let m = scalar_mass(x, density, rule)?;
+    let mut full = [[0.0; DOFS]; DOFS];
+    for a in 0..10 {
+        for b in 0..10 {
+            for i in 0..3 {
+                full[3 * a + i][3 * b + i] = m[a][b];
+            }
+        }
+    }
+    Ok(full)
+}
+
+/// The scalar consistent mass `rho int N_a N_b dV` (10 x 10, symmetric): the element's mass
+/// matrix is this on each of the three displacement components. `density` must be finite
+/// and `>= 0`.
+pub fn scalar_mass(
+    x: &[[f64; 3]; 10],
+    density: f64,
+    rule: MassRule,
+) -> Result<[[f64; 10]; 10], ElementError> {
     if density < 0.0 || !density.is_finite() {
         return Err(ElementError::InvalidMaterial {
             property: "density",
@@ -320,7 +340,6 @@ pub fn mass(
     }
     check_node_jacobians(x)?;
     let rule = rule.rule();
-    // Scalar 10x10 (upper triangle) first, then the three identical diagonal blocks.
     let mut m = [[0.0; 10]; 10];
     for (q, (p, w)) in rule.points.iter().zip(rule.weights).enumerate() {
         let det = checked_determinant(x, *p, q)?;
@@ -333,16 +352,14 @@ pub fn mass(
             }
         }
     }
-    let mut full = [[0.0; DOFS]; DOFS];
-    for a in 0..10 {
-        for b in a..10 {
-            for i in 0..3 {
-                full[3 * a + i][3 * b + i] = m[a][b];
-            }
+    // The lower triangle from the upper.
+    for a in 1..10 {
+        let (upper, lower) = m.split_at_mut(a);
+        for (b, row) in upper.iter().enumerate() {
+            lower[0][b] = row[a];
         }
     }
-    mirror_upper(&mut full);
-    Ok(full)
+    Ok(m)
 }
 
 /// Volume of the (possibly curved) element, `int det J dp`, exact (det J is a cubic and the

@@ -2,6 +2,7 @@
 //! distributed assembly into PETSc matrices.
 
 pub mod assemble;
+pub mod body_energy;
 pub mod constraints;
 pub mod distributing;
 pub mod dofs;

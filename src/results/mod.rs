@@ -156,6 +156,39 @@ impl SweepDocument {
     }
 }
 
+/// An instability's unstable mode where its real part is largest: at the point of
+/// `mu_at_max`, the unstable eigenvalue nearest to (`frequency_hz_at_max`, `max_real_part`).
+pub fn mode_at_max<'a>(
+    points: &'a [SweepPointReport],
+    i: &crate::analysis::tracking::Instability,
+) -> Option<&'a crate::analysis::cea::ComplexMode> {
+    let point = points
+        .iter()
+        .find(|p| (p.friction - i.mu_at_max).abs() <= 1e-9 * i.mu_at_max.abs().max(1.0))?;
+    let distance = |m: &crate::analysis::cea::ComplexMode| {
+        (2.0 * std::f64::consts::PI * (m.frequency_hz - i.frequency_hz_at_max))
+            .hypot(m.real_part - i.max_real_part)
+    };
+    point
+        .eigenvalues
+        .iter()
+        .filter(|m| m.unstable)
+        .min_by(|a, b| distance(a).total_cmp(&distance(b)))
+}
+
+/// "pad_outboard_backplate 50 %, pad_outboard_friction 24 %, caliper 17 %": the `count`
+/// bodies with the largest shares, largest first.
+pub fn largest_shares(shares: &std::collections::BTreeMap<String, f64>, count: usize) -> String {
+    let mut by_size: Vec<(&String, &f64)> = shares.iter().collect();
+    by_size.sort_by(|a, b| b.1.total_cmp(a.1).then(a.0.cmp(b.0)));
+    by_size
+        .iter()
+        .take(count)
+        .map(|(name, share)| format!("{name} {:.0} %", 100.0 * **share))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
 /// Fills what older versions did not write: each eigenvalue's `unstable` flag, by the CEA's
 /// own rule with the default threshold.
 fn migrate(doc: &mut serde_json::Value) {

@@ -12,6 +12,7 @@ mod common;
 #[path = "../reference/mod.rs"]
 mod reference;
 
+mod body_energy;
 mod cea;
 mod contact_statics;
 mod coulomb_statics;
@@ -25,6 +26,7 @@ mod superelement;
 
 fn main() {
     common::harness::main(&[
+        ("body_energy", body_energy::CHECKS),
         ("cea", cea::CHECKS),
         ("contact_statics", contact_statics::CHECKS),
         ("coulomb_statics", coulomb_statics::CHECKS),

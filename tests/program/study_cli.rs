@@ -226,6 +226,38 @@ fn a_study_runs_its_stages_reports_them_and_reruns_only_what_changed() {
         let line = format!("| {:.1} Hz |", i["frequency_hz_at_max"].as_f64().unwrap());
         assert!(report.contains(&line), "{line}\n{report}");
     }
+    // Which body moves: each instability's mode at its largest real part, its bodies' shares
+    // of kinetic energy as sweep.json has them, in one row of the report.
+    assert!(
+        report.contains("Where each instability's kinetic energy is"),
+        "{report}"
+    );
+    for i in full["instabilities"].as_array().unwrap() {
+        let (mu, f, a) = (
+            i["mu_at_max"].as_f64().unwrap(),
+            i["frequency_hz_at_max"].as_f64().unwrap(),
+            i["max_real_part"].as_f64().unwrap(),
+        );
+        let point = full["points"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|p| p["friction"].as_f64() == Some(mu))
+            .unwrap();
+        let mode = point["eigenvalues"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|m| m["frequency_hz"].as_f64() == Some(f) && m["real_part"].as_f64() == Some(a))
+            .unwrap();
+        let shares = mode["body_shares"].as_object().unwrap();
+        let cells: Vec<String> = shares
+            .values()
+            .map(|v| format!("{:.1} %", 100.0 * v.as_f64().unwrap()))
+            .collect();
+        let row = format!("| {f:.1} Hz | {} |", cells.join(" | "));
+        assert!(report.contains(&row), "{row}\nnot in\n{report}");
+    }
     // Without friction first: every pair's closed zone and the whole band, printed from
     // compare-frictionless/compare.json.
     let c = json(&out.join("compare-frictionless").join("compare.json"));

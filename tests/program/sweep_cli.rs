@@ -823,6 +823,13 @@ fn rank_independent_numbers(sweep: &serde_json::Value) -> Vec<(String, f64, f64)
             out.push((format!("mu {mu}: mode {k} frequency"), f, size));
             out.push((format!("mu {mu}: mode {k} real part"), re, size));
         }
+        // The unstable modes' bodies' shares of kinetic energy (fractions).
+        for (k, m) in p["eigenvalues"].as_array().unwrap().iter().enumerate() {
+            for (body, share) in m["body_shares"].as_object().into_iter().flatten() {
+                let v = share.as_f64().unwrap();
+                out.push((format!("mu {mu}: mode {k} {body} share"), v, 1.0));
+            }
+        }
         for pair in p["contact"].as_array().unwrap() {
             for key in [
                 "normal_force",
@@ -878,6 +885,28 @@ fn a_sweep_gives_the_same_numbers_on_one_to_four_ranks() {
         one.iter().any(|(what, _, _)| what.contains("mode")),
         "{one:?}"
     );
+    // Every unstable mode says where its kinetic energy is: in every body of the brake (disc,
+    // two pads' friction material and back plates), the shares summing to 1.
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.join("n1").join("sweep.json")).unwrap()).unwrap();
+    let mut unstable = 0;
+    for p in json["points"].as_array().unwrap() {
+        for m in p["eigenvalues"].as_array().unwrap() {
+            if m["unstable"] != serde_json::Value::Bool(true) {
+                assert!(m.get("body_shares").is_none(), "{m}");
+                continue;
+            }
+            unstable += 1;
+            let shares = m["body_shares"]
+                .as_object()
+                .expect("an unstable mode's body shares");
+            assert!(shares.len() >= 3, "{m}");
+            let sum: f64 = shares.values().map(|v| v.as_f64().unwrap()).sum();
+            assert!((sum - 1.0).abs() <= 1e-9, "{m}: the shares sum to {sum}");
+            assert!(shares.values().all(|v| v.as_f64().unwrap() >= 0.0), "{m}");
+        }
+    }
+    assert!(unstable > 0, "no unstable mode to check");
     for (ranks, other) in &runs[1..] {
         let names = |r: &[(String, f64, f64)]| r.iter().map(|x| x.0.clone()).collect::<Vec<_>>();
         assert_eq!(names(one), names(other), "1 rank vs {ranks}");

@@ -180,8 +180,13 @@ impl Report {
                 format!("{:.1}", i.max_real_part),
                 format!("{:.2}", i.mu_at_max),
             ]);
+            let moves = crate::results::mode_at_max(&full.points, i)
+                .and_then(|m| m.body_shares.as_ref())
+                .map_or(String::new(), |s| {
+                    format!("; moves most: {}", crate::results::largest_shares(s, 2))
+                });
             summary.push(format!(
-                "{:.0} Hz: unstable from mu {first_mu} (at {first_f}), growth rate up to {:.1} 1/s at mu {:.2}",
+                "{:.0} Hz: unstable from mu {first_mu} (at {first_f}), growth rate up to {:.1} 1/s at mu {:.2}{moves}",
                 i.frequency_hz_at_max, i.max_real_part, i.mu_at_max,
             ));
         }
@@ -212,6 +217,7 @@ impl Report {
                 rows,
             });
         }
+        blocks.extend(body_shares_table(&full, &instabilities));
         for (file, caption) in [
             ("stability_map.svg", "Stability map of the full model"),
             (
@@ -622,6 +628,47 @@ impl Report {
         write_file(&dir.join("report.md"), self.markdown().as_bytes())?;
         write_file(&dir.join("report.html"), self.html().as_bytes())
     }
+}
+
+/// Where each instability's kinetic energy is, body by body, at its largest real part: which
+/// part moves (issue 33). Nothing when no unstable mode carries the shares (older sweeps).
+fn body_shares_table(
+    full: &SweepDocument,
+    instabilities: &[crate::analysis::tracking::Instability],
+) -> Vec<Block> {
+    let shares: Vec<Option<&std::collections::BTreeMap<String, f64>>> = instabilities
+        .iter()
+        .map(|i| crate::results::mode_at_max(&full.points, i).and_then(|m| m.body_shares.as_ref()))
+        .collect();
+    let mut bodies: Vec<&String> = shares.iter().flatten().flat_map(|s| s.keys()).collect();
+    bodies.sort();
+    bodies.dedup();
+    if bodies.is_empty() {
+        return Vec::new();
+    }
+    let rows = instabilities
+        .iter()
+        .zip(&shares)
+        .map(|(i, s)| {
+            let mut row = vec![format!("{:.1} Hz", i.frequency_hz_at_max)];
+            row.extend(bodies.iter().map(|b| {
+                s.and_then(|s| s.get(*b))
+                    .map_or("-".into(), |v| format!("{:.1} %", 100.0 * v))
+            }));
+            row
+        })
+        .collect();
+    let mut header = vec!["instability".to_string()];
+    header.extend(bodies.iter().map(|b| b.to_string()));
+    vec![
+        Block::Paragraph(
+            "Where each instability's kinetic energy is, body by body, at its largest real \
+             part (x^H M_b x over x^H M x of the unstable mode's shape): the part that moves \
+             is the one whose stiffness, mass or mounting changes the mode."
+                .into(),
+        ),
+        Block::Table { header, rows },
+    ]
 }
 
 fn capitalised(s: &str) -> String {

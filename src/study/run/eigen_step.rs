@@ -9,6 +9,7 @@ use crate::analysis::pencil::{self, Pencil};
 use crate::analysis::restraint;
 use crate::analysis::statics;
 use crate::contact::{self, FrictionLaw, PointState, SlipHistory, Status};
+use crate::fem::body_energy;
 use crate::fem::element::MassRule;
 use crate::io::abaqus::{ComplexFrequencyRequest, FrequencyRequest};
 use crate::model::{self, Model, Operators};
@@ -150,7 +151,7 @@ pub(super) fn frequency(
     let line = pencil::with_tangent(
         &mut ops,
         |ops, scale| add_base_tangent(comm, ops, &model.pairs, base, scale),
-        |ops| complex(comm, model, ops, base, &states, &band, out),
+        |ops| complex(comm, model, ops, mass_rule, base, &states, &band, out),
     )?;
     Ok((band, line))
 }
@@ -211,7 +212,7 @@ pub(super) fn complex_frequency(
     pencil::with_tangent(
         &mut ops,
         |ops, scale| add_base_tangent(comm, ops, &model.pairs, base, scale),
-        |ops| complex(comm, model, ops, base, &states, &band, out),
+        |ops| complex(comm, model, ops, mass_rule, base, &states, &band, out),
     )
 }
 
@@ -377,10 +378,12 @@ fn real(
 
 /// The CEA of the operators (the tangent formed in their stiffness) in `band`, written as a
 /// sweep point writes it. Collective.
+#[allow(clippy::too_many_arguments)]
 fn complex(
     comm: Comm<'_>,
     model: &Model,
     ops: &Operators<'_>,
+    mass_rule: MassRule,
     base: &BaseState,
     states: &[Vec<PointState>],
     band: &Band,
@@ -417,9 +420,9 @@ fn complex(
         kept.truncate(n);
         kept.sort_unstable();
     }
-    let modes: Vec<ComplexMode> = kept.iter().map(|&i| result.modes[i].clone()).collect();
+    let mut modes: Vec<ComplexMode> = kept.iter().map(|&i| result.modes[i].clone()).collect();
     let mut unstable = Vec::new();
-    for &i in &kept {
+    for (&i, mode) in kept.iter().zip(&mut modes) {
         if !result.modes[i].unstable {
             continue;
         }
@@ -434,8 +437,10 @@ fn complex(
             let mut im = ops.dofs.displacements(&im);
             re.truncate(nodes);
             im.truncate(nodes);
+            mode.body_shares =
+                body_energy::mode_shares(&model.mesh, &model.point_masses, mass_rule, &re, &im);
             unstable.push(UnstableShape {
-                mode: result.modes[i].clone(),
+                mode: mode.clone(),
                 re,
                 im,
             });

@@ -14,6 +14,8 @@ use crate::analysis::pencil::{self, Pencil};
 use crate::analysis::restraint::{self, Body};
 use crate::analysis::statics::{self, StaticOptions, StaticProblem};
 use crate::contact::{self, SlipHistory};
+use crate::fem::body_energy;
+use crate::fem::element::MassRule;
 use crate::mesh::Mesh;
 use crate::model::{self, Model, Operators};
 use crate::petsc::{Comm, Matrix};
@@ -57,6 +59,9 @@ pub struct FullModel<'rt> {
     /// At each point, the CEA again with this many points of the contact zone's edge opened,
     /// then closed ([`crate::analysis::contact_edge`]); 0: not done.
     edge_points: usize,
+    /// The mass rule M was assembled with: the bodies' shares of a mode's kinetic energy
+    /// use the same.
+    mass_rule: MassRule,
 }
 
 /// A swept pair's pad surface: per contact point, the surface nodes it stands for with their
@@ -182,6 +187,7 @@ impl<'rt> FullModel<'rt> {
         };
         let mut full = Self::new(comm, model, operators, cea, analysis.increments);
         full.edge_points = analysis.contact_edge_points;
+        full.mass_rule = analysis.mass_rule;
         if let Some((spread, reduced)) = reduction {
             full.spread = spread;
             full.reduced = Some(reduced);
@@ -230,6 +236,7 @@ impl<'rt> FullModel<'rt> {
             earlier: None,
             reduced: None,
             edge_points: 0,
+            mass_rule: MassRule::default(),
         }
     }
 
@@ -610,7 +617,8 @@ impl<'rt> FrictionModel<'rt> for FullModel<'rt> {
         // Shapes to rank 0: restricted for tracking; full for the unstable ones' VTU.
         let mut tracking_shapes = Vec::with_capacity(result.shapes.len());
         let mut unstable = Vec::new();
-        for (mode, (re, im)) in result.modes.iter().zip(&result.shapes) {
+        let mut modes = result.modes.clone();
+        for (mode, (re, im)) in modes.iter_mut().zip(&result.shapes) {
             let (re, im) = (re.gather_to_zero()?, im.gather_to_zero()?);
             if root {
                 tracking_shapes.push(
@@ -620,10 +628,13 @@ impl<'rt> FrictionModel<'rt> for FullModel<'rt> {
                         .collect::<Vec<_>>(),
                 );
                 if mode.unstable {
+                    let re = mesh_part(dofs.displacements(&re), &self.model.mesh);
+                    let im = mesh_part(dofs.displacements(&im), &self.model.mesh);
+                    mode.body_shares = self.body_shares(&re, &im);
                     unstable.push(UnstableShape {
                         mode: mode.clone(),
-                        re: mesh_part(dofs.displacements(&re), &self.model.mesh),
-                        im: mesh_part(dofs.displacements(&im), &self.model.mesh),
+                        re,
+                        im,
                     });
                 }
             }
@@ -654,7 +665,7 @@ impl<'rt> FrictionModel<'rt> for FullModel<'rt> {
             } else {
                 0.0
             },
-            eigenvalues: result.modes.clone(),
+            eigenvalues: modes,
             static_seconds,
             cea_seconds,
             cea_shifts: result.targets.len(),
@@ -675,6 +686,18 @@ impl<'rt> FrictionModel<'rt> for FullModel<'rt> {
             tracking_shapes,
             fields,
         })
+    }
+}
+
+impl FullModel<'_> {
+    /// Each body's share of the kinetic energy of the shape (`re`, `im` on the mesh nodes).
+    pub(super) fn body_shares(
+        &self,
+        re: &[[f64; 3]],
+        im: &[[f64; 3]],
+    ) -> Option<std::collections::BTreeMap<String, f64>> {
+        let model = &self.model;
+        body_energy::mode_shares(&model.mesh, &model.point_masses, self.mass_rule, re, im)
     }
 }
 

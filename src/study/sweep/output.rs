@@ -242,6 +242,14 @@ pub fn summary_table(reports: &[SweepPointReport], instabilities: &[Instability]
             i.track,
             i.partner.map_or("-".into(), |p| p.to_string()),
         ));
+        if let Some(shares) =
+            crate::results::mode_at_max(reports, i).and_then(|m| m.body_shares.as_ref())
+        {
+            s.push_str(&format!(
+                "        kinetic energy there: {}\n",
+                crate::results::largest_shares(shares, 3)
+            ));
+        }
     }
     s
 }

@@ -651,11 +651,11 @@ impl<'rt> FrictionModel<'rt> for SuperElementModel<'rt> {
             if let Some((_, cea, ..)) = &dense.root {
                 let mesh = &self.base.model.mesh;
                 let dofs = &self.base.operators().dofs;
-                unstable.push(UnstableShape {
-                    mode: cea.modes[j].clone(),
-                    re: mesh_part(dofs.displacements(&parts[0]), mesh),
-                    im: mesh_part(dofs.displacements(&parts[1]), mesh),
-                });
+                let re = mesh_part(dofs.displacements(&parts[0]), mesh);
+                let im = mesh_part(dofs.displacements(&parts[1]), mesh);
+                let mut mode = cea.modes[j].clone();
+                mode.body_shares = self.base.body_shares(&re, &im);
+                unstable.push(UnstableShape { mode, re, im });
             }
         }
         let expansion_seconds = t_expand.elapsed().as_secs_f64();
@@ -733,7 +733,18 @@ impl<'rt> FrictionModel<'rt> for SuperElementModel<'rt> {
                     } else {
                         0.0
                     },
-                    eigenvalues: cea.modes.clone(),
+                    // The unstable ones with their bodies' shares (from the expanded shapes).
+                    eigenvalues: cea
+                        .modes
+                        .iter()
+                        .enumerate()
+                        .map(|(j, m)| {
+                            unstable
+                                .iter()
+                                .find(|s| s.mode.lambda == m.lambda && flags[j] == 1.0)
+                                .map_or_else(|| m.clone(), |s| s.mode.clone())
+                        })
+                        .collect(),
                     static_seconds: choice.reduced_static_seconds + static_seconds,
                     cea_seconds: *cea_seconds,
                     cea_shifts: 0,
