@@ -139,6 +139,14 @@ pub struct ComplexMode {
     /// 1; [`crate::fem::body_energy`]). Given for unstable modes of models with a mesh.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub body_shares: Option<std::collections::BTreeMap<String, f64>>,
+    /// Each contact pair's part of the real part (1/s): the work its forces do on the mode,
+    /// a_p = -Im(x^H J_p x) / (2 omega x^H M x) ([`crate::analysis::growth`]); undamped they
+    /// add up to `real_part`. Given for unstable modes of full-size models.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pair_growth: Option<std::collections::BTreeMap<String, f64>>,
+    /// `pair_growth` over its sum (summing to 1; negative for a pair that takes energy out).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pair_shares: Option<std::collections::BTreeMap<String, f64>>,
     #[serde(skip)]
     pub lambda: Complex64,
 }
@@ -221,6 +229,8 @@ pub fn mode_from_lambda(
         rigid_body,
         residual,
         body_shares: None,
+        pair_growth: None,
+        pair_shares: None,
         lambda,
     }
 }

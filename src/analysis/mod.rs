@@ -4,6 +4,7 @@
 pub mod cea;
 pub mod contact_edge;
 pub mod continuation;
+pub mod growth;
 pub mod modes;
 pub mod operators;
 pub mod pencil;

@@ -229,7 +229,7 @@ fn a_study_runs_its_stages_reports_them_and_reruns_only_what_changed() {
     // Which body moves: each instability's mode at its largest real part, its bodies' shares
     // of kinetic energy as sweep.json has them, in one row of the report.
     assert!(
-        report.contains("Where each instability's kinetic energy is"),
+        report.contains("Which part moves: each instability's kinetic energy"),
         "{report}"
     );
     for i in full["instabilities"].as_array().unwrap() {
@@ -250,13 +250,16 @@ fn a_study_runs_its_stages_reports_them_and_reruns_only_what_changed() {
             .iter()
             .find(|m| m["frequency_hz"].as_f64() == Some(f) && m["real_part"].as_f64() == Some(a))
             .unwrap();
-        let shares = mode["body_shares"].as_object().unwrap();
-        let cells: Vec<String> = shares
-            .values()
-            .map(|v| format!("{:.1} %", 100.0 * v.as_f64().unwrap()))
-            .collect();
-        let row = format!("| {f:.1} Hz | {} |", cells.join(" | "));
-        assert!(report.contains(&row), "{row}\nnot in\n{report}");
+        // Which pair feeds it: the pairs' shares of its growth rate likewise.
+        for key in ["body_shares", "pair_shares"] {
+            let shares = mode[key].as_object().unwrap();
+            let cells: Vec<String> = shares
+                .values()
+                .map(|v| format!("{:.1} %", 100.0 * v.as_f64().unwrap()))
+                .collect();
+            let row = format!("| {f:.1} Hz | {} |", cells.join(" | "));
+            assert!(report.contains(&row), "{key}: {row}\nnot in\n{report}");
+        }
     }
     // Without friction first: every pair's closed zone and the whole band, printed from
     // compare-frictionless/compare.json.

@@ -823,11 +823,18 @@ fn rank_independent_numbers(sweep: &serde_json::Value) -> Vec<(String, f64, f64)
             out.push((format!("mu {mu}: mode {k} frequency"), f, size));
             out.push((format!("mu {mu}: mode {k} real part"), re, size));
         }
-        // The unstable modes' bodies' shares of kinetic energy (fractions).
+        // The unstable modes' bodies' shares of kinetic energy (fractions) and their pairs'
+        // parts of the growth rate (1/s, against the mode's |lambda|).
         for (k, m) in p["eigenvalues"].as_array().unwrap().iter().enumerate() {
             for (body, share) in m["body_shares"].as_object().into_iter().flatten() {
                 let v = share.as_f64().unwrap();
                 out.push((format!("mu {mu}: mode {k} {body} share"), v, 1.0));
+            }
+            let size = (2.0 * std::f64::consts::PI * m["frequency_hz"].as_f64().unwrap())
+                .hypot(m["real_part"].as_f64().unwrap());
+            for (pair, rate) in m["pair_growth"].as_object().into_iter().flatten() {
+                let v = rate.as_f64().unwrap();
+                out.push((format!("mu {mu}: mode {k} {pair} growth"), v, size));
             }
         }
         for pair in p["contact"].as_array().unwrap() {
@@ -904,6 +911,30 @@ fn a_sweep_gives_the_same_numbers_on_one_to_four_ranks() {
             let sum: f64 = shares.values().map(|v| v.as_f64().unwrap()).sum();
             assert!((sum - 1.0).abs() <= 1e-9, "{m}: the shares sum to {sum}");
             assert!(shares.values().all(|v| v.as_f64().unwrap() >= 0.0), "{m}");
+            // The pairs' parts of the growth rate add up to the CEA's real part: an identity
+            // of the eigenpair (analysis/growth.rs), so up to the pair's own accuracy, which
+            // the CEA accepts at a relative residual of at most 1e-6 (measured: 1e-11 of
+            // |lambda|).
+            let growth = m["pair_growth"]
+                .as_object()
+                .expect("the pairs' growth rates");
+            let sum: f64 = growth.values().map(|v| v.as_f64().unwrap()).sum();
+            let (f, a) = (
+                m["frequency_hz"].as_f64().unwrap(),
+                m["real_part"].as_f64().unwrap(),
+            );
+            let size = (2.0 * std::f64::consts::PI * f).hypot(a);
+            assert!(
+                (sum - a).abs() <= 1e-6 * size,
+                "{m}: the pairs add up to {sum} 1/s"
+            );
+            let pair_shares = m["pair_shares"].as_object().unwrap();
+            assert!(pair_shares.len() >= 2, "{m}");
+            let total: f64 = pair_shares.values().map(|v| v.as_f64().unwrap()).sum();
+            assert!(
+                (total - 1.0).abs() <= 1e-9,
+                "{m}: the pair shares sum to {total}"
+            );
         }
     }
     assert!(unstable > 0, "no unstable mode to check");

@@ -180,11 +180,18 @@ impl Report {
                 format!("{:.1}", i.max_real_part),
                 format!("{:.2}", i.mu_at_max),
             ]);
-            let moves = crate::results::mode_at_max(&full.points, i)
+            let at_max = crate::results::mode_at_max(&full.points, i);
+            let mut moves = at_max
                 .and_then(|m| m.body_shares.as_ref())
                 .map_or(String::new(), |s| {
                     format!("; moves most: {}", crate::results::largest_shares(s, 2))
                 });
+            if let Some(s) = at_max.and_then(|m| m.pair_shares.as_ref()) {
+                moves.push_str(&format!(
+                    "; fed most by: {}",
+                    crate::results::largest_shares(s, 2)
+                ));
+            }
             summary.push(format!(
                 "{:.0} Hz: unstable from mu {first_mu} (at {first_f}), growth rate up to {:.1} 1/s at mu {:.2}{moves}",
                 i.frequency_hz_at_max, i.max_real_part, i.mu_at_max,
@@ -217,7 +224,22 @@ impl Report {
                 rows,
             });
         }
-        blocks.extend(body_shares_table(&full, &instabilities));
+        blocks.extend(shares_table(
+            &full,
+            &instabilities,
+            |m| m.body_shares.as_ref(),
+            "Which part moves: each instability's kinetic energy body by body at its largest \
+             real part (x^H M_b x over x^H M x of the unstable mode's shape).",
+        ));
+        blocks.extend(shares_table(
+            &full,
+            &instabilities,
+            |m| m.pair_shares.as_ref(),
+            "Which contact feeds it: each pair's part of the growth rate at its largest real \
+             part, a_p = -Im(x^H J_p x) / (2 omega x^H M x) with J_p the pair's contact tangent, \
+             over their sum (the parts add up to the real part; a negative share takes energy \
+             out of the mode).",
+        ));
         for (file, caption) in [
             ("stability_map.svg", "Stability map of the full model"),
             (
@@ -630,20 +652,23 @@ impl Report {
     }
 }
 
-/// Where each instability's kinetic energy is, body by body, at its largest real part: which
-/// part moves (issue 33). Nothing when no unstable mode carries the shares (older sweeps).
-fn body_shares_table(
+/// A table of one kind of share per instability, at its largest real part: a column per
+/// body or pair. Nothing when no unstable mode carries them (older sweeps, super-element
+/// models for the pairs).
+fn shares_table(
     full: &SweepDocument,
     instabilities: &[crate::analysis::tracking::Instability],
+    of: impl Fn(&crate::analysis::cea::ComplexMode) -> Option<&std::collections::BTreeMap<String, f64>>,
+    caption: &str,
 ) -> Vec<Block> {
     let shares: Vec<Option<&std::collections::BTreeMap<String, f64>>> = instabilities
         .iter()
-        .map(|i| crate::results::mode_at_max(&full.points, i).and_then(|m| m.body_shares.as_ref()))
+        .map(|i| crate::results::mode_at_max(&full.points, i).and_then(&of))
         .collect();
-    let mut bodies: Vec<&String> = shares.iter().flatten().flat_map(|s| s.keys()).collect();
-    bodies.sort();
-    bodies.dedup();
-    if bodies.is_empty() {
+    let mut names: Vec<&String> = shares.iter().flatten().flat_map(|s| s.keys()).collect();
+    names.sort();
+    names.dedup();
+    if names.is_empty() {
         return Vec::new();
     }
     let rows = instabilities
@@ -651,7 +676,7 @@ fn body_shares_table(
         .zip(&shares)
         .map(|(i, s)| {
             let mut row = vec![format!("{:.1} Hz", i.frequency_hz_at_max)];
-            row.extend(bodies.iter().map(|b| {
+            row.extend(names.iter().map(|b| {
                 s.and_then(|s| s.get(*b))
                     .map_or("-".into(), |v| format!("{:.1} %", 100.0 * v))
             }));
@@ -659,14 +684,9 @@ fn body_shares_table(
         })
         .collect();
     let mut header = vec!["instability".to_string()];
-    header.extend(bodies.iter().map(|b| b.to_string()));
+    header.extend(names.iter().map(|b| b.to_string()));
     vec![
-        Block::Paragraph(
-            "Where each instability's kinetic energy is, body by body, at its largest real \
-             part (x^H M_b x over x^H M x of the unstable mode's shape): the part that moves \
-             is the one whose stiffness, mass or mounting changes the mode."
-                .into(),
-        ),
+        Block::Paragraph(caption.into()),
         Block::Table { header, rows },
     ]
 }

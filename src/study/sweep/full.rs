@@ -10,6 +10,7 @@ use super::{
 use crate::analysis::cea::{self, CeaOptions, RayleighDamping};
 use crate::analysis::contact_edge::{self, EdgeMove};
 use crate::analysis::continuation::{self, FrictionState};
+use crate::analysis::growth;
 use crate::analysis::pencil::{self, Pencil};
 use crate::analysis::restraint::{self, Body};
 use crate::analysis::statics::{self, StaticOptions, StaticProblem};
@@ -628,9 +629,10 @@ impl<'rt> FrictionModel<'rt> for FullModel<'rt> {
                         .collect::<Vec<_>>(),
                 );
                 if mode.unstable {
-                    let re = mesh_part(dofs.displacements(&re), &self.model.mesh);
-                    let im = mesh_part(dofs.displacements(&im), &self.model.mesh);
-                    mode.body_shares = self.body_shares(&re, &im);
+                    let (re, im) = (dofs.displacements(&re), dofs.displacements(&im));
+                    self.contributions(mode, pairs, &equilibrium, &re, &im);
+                    let re = mesh_part(re, &self.model.mesh);
+                    let im = mesh_part(im, &self.model.mesh);
                     unstable.push(UnstableShape {
                         mode: mode.clone(),
                         re,
@@ -698,6 +700,66 @@ impl FullModel<'_> {
     ) -> Option<std::collections::BTreeMap<String, f64>> {
         let model = &self.model;
         body_energy::mode_shares(&model.mesh, &model.point_masses, self.mass_rule, re, im)
+    }
+
+    /// What an unstable mode's shape says of its cause (`re`, `im` at every node of the
+    /// model): its bodies' shares of kinetic energy and its pairs' parts of the growth rate
+    /// ([`growth`]), at the equilibrium its CEA was made about. A part that cannot be had
+    /// is left out and said in the log: it never fails the point.
+    fn contributions(
+        &self,
+        mode: &mut cea::ComplexMode,
+        pairs: &[contact::ContactPair],
+        equilibrium: &statics::StaticSolution,
+        re: &[[f64; 3]],
+        im: &[[f64; 3]],
+    ) {
+        let model = &self.model;
+        let nodes = model.mesh.nodes.len();
+        let energies = match body_energy::body_kinetic_energies(
+            &model.mesh,
+            &model.point_masses,
+            self.mass_rule,
+            &re[..nodes],
+            &im[..nodes],
+        ) {
+            Ok(e) => e,
+            Err(e) => {
+                tracing::warn!(
+                    "no body shares of the mode at {:.1} Hz: {e}",
+                    mode.frequency_hz
+                );
+                return;
+            }
+        };
+        mode.body_shares = Some(body_energy::shares(&energies));
+        // Undamped: the pairs' parts add up to the real part. With Rayleigh damping the
+        // damping's own part -x^H C x / 2m is not among them.
+        let modal_mass: f64 = energies.values().sum();
+        let omega = mode.lambda.im;
+        if modal_mass <= 0.0 || omega <= 0.0 {
+            return;
+        }
+        match growth::pair_growth_rates(
+            pairs,
+            &equilibrium.slip_before,
+            &equilibrium.slip_after,
+            &equilibrium.displacement,
+            growth::Shape { re, im },
+            omega,
+            modal_mass,
+        ) {
+            Ok(rates) => {
+                mode.pair_shares = Some(growth::shares(&rates));
+                mode.pair_growth = Some(rates);
+            }
+            Err(e) => {
+                tracing::warn!(
+                    "no pair shares of the mode at {:.1} Hz: {e}",
+                    mode.frequency_hz
+                )
+            }
+        }
     }
 }
 

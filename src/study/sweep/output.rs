@@ -242,11 +242,16 @@ pub fn summary_table(reports: &[SweepPointReport], instabilities: &[Instability]
             i.track,
             i.partner.map_or("-".into(), |p| p.to_string()),
         ));
-        if let Some(shares) =
-            crate::results::mode_at_max(reports, i).and_then(|m| m.body_shares.as_ref())
-        {
+        let at_max = crate::results::mode_at_max(reports, i);
+        if let Some(shares) = at_max.and_then(|m| m.body_shares.as_ref()) {
             s.push_str(&format!(
                 "        kinetic energy there: {}\n",
+                crate::results::largest_shares(shares, 3)
+            ));
+        }
+        if let Some(shares) = at_max.and_then(|m| m.pair_shares.as_ref()) {
+            s.push_str(&format!(
+                "        growth fed by: {}\n",
                 crate::results::largest_shares(shares, 3)
             ));
         }
