@@ -42,12 +42,12 @@ pub struct Shape<'a> {
     pub im: &'a [[f64; 3]],
 }
 
-/// Each pair's share of the growth rate, a_p = -Im(x^H J_p x) / (2 omega m) (1/s), with the
-/// contact tangent of a CEA about `u` ([`crate::analysis::statics::add_perturbation_tangent`]:
-/// history `before`, `after` for CalculiX's law); `omega` is Im(lambda) (rad/s) and
-/// `modal_mass` x^H M x.
-/// Pairs named twice are summed under their name.
-pub fn pair_growth_rates(
+/// Each contact point's part of the growth rate, a_k = -Im(x^H J_k x) / (2 omega m) (1/s),
+/// per pair in the model's order, with the contact tangent of a CEA about `u`
+/// ([`crate::analysis::statics::add_perturbation_tangent`]: history `before`, `after` for
+/// CalculiX's law); `omega` is Im(lambda) (rad/s) and `modal_mass` x^H M x. An open point's
+/// part is 0.
+pub fn point_growth_rates(
     pairs: &[ContactPair],
     before: &SlipHistory,
     after: &SlipHistory,
@@ -55,13 +55,15 @@ pub fn pair_growth_rates(
     shape: Shape<'_>,
     omega: f64,
     modal_mass: f64,
-) -> Result<BTreeMap<String, f64>, ContactError> {
+) -> Result<Vec<Vec<f64>>, ContactError> {
     let history = contact::perturbation_history(pairs, before, after);
-    let mut rates = BTreeMap::new();
+    let scale = -1.0 / (2.0 * omega * modal_mass);
+    let mut rates = Vec::with_capacity(pairs.len());
     for (i, pair) in pairs.iter().enumerate() {
-        let mut sum = 0.0;
+        let mut of_pair = Vec::with_capacity(pair.points.len());
         for (k, point) in pair.points.iter().enumerate() {
             let (state, contribution) = contact::evaluate(pair, point, history.anchor(i, k), u)?;
+            let mut sum = 0.0;
             if let Some(c) = contribution {
                 sum += imaginary_part(&c, shape.re, shape.im);
             }
@@ -69,11 +71,21 @@ pub fn pair_growth_rates(
             if let Some(c) = contact::variant::across_sliding(pair, point, &state) {
                 sum += imaginary_part(&c, shape.re, shape.im);
             }
+            of_pair.push(scale * sum);
         }
-        *rates.entry(pair.settings.name.clone()).or_insert(0.0) +=
-            -sum / (2.0 * omega * modal_mass);
+        rates.push(of_pair);
     }
     Ok(rates)
+}
+
+/// Each pair's part of the growth rate, a_p = sum of its points' [`point_growth_rates`], by
+/// name (pairs named twice are summed under their name).
+pub fn pair_growth_rates(pairs: &[ContactPair], points: &[Vec<f64>]) -> BTreeMap<String, f64> {
+    let mut rates = BTreeMap::new();
+    for (pair, of_pair) in pairs.iter().zip(points) {
+        *rates.entry(pair.settings.name.clone()).or_insert(0.0) += of_pair.iter().sum::<f64>();
+    }
+    rates
 }
 
 /// The rates as shares of their sum (summing to 1); empty when the sum is 0. A pair that

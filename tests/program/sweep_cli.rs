@@ -898,6 +898,22 @@ fn a_sweep_gives_the_same_numbers_on_one_to_four_ranks() {
         serde_json::from_slice(&std::fs::read(dir.join("n1").join("sweep.json")).unwrap()).unwrap();
     let mut unstable = 0;
     for p in json["points"].as_array().unwrap() {
+        // Where each is fed, drawn on the pad faces: one field per unstable mode.
+        let vtu = dir
+            .join("n1")
+            .join(format!("mu_{:.3}", p["friction"].as_f64().unwrap()))
+            .join("cea.vtu");
+        let drawn = std::fs::read_to_string(&vtu)
+            .unwrap()
+            .matches("_feed\"")
+            .count();
+        let flagged = p["eigenvalues"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|m| m["unstable"] == serde_json::Value::Bool(true))
+            .count();
+        assert_eq!(drawn, flagged, "{}", vtu.display());
         for m in p["eigenvalues"].as_array().unwrap() {
             if m["unstable"] != serde_json::Value::Bool(true) {
                 assert!(m.get("body_shares").is_none(), "{m}");

@@ -443,6 +443,7 @@ fn complex(
                 mode: mode.clone(),
                 re,
                 im,
+                feed: None,
             });
         }
     }

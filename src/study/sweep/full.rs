@@ -630,13 +630,14 @@ impl<'rt> FrictionModel<'rt> for FullModel<'rt> {
                 );
                 if mode.unstable {
                     let (re, im) = (dofs.displacements(&re), dofs.displacements(&im));
-                    self.contributions(mode, pairs, &equilibrium, &re, &im);
+                    let feed = self.contributions(mode, pairs, &equilibrium, &re, &im);
                     let re = mesh_part(re, &self.model.mesh);
                     let im = mesh_part(im, &self.model.mesh);
                     unstable.push(UnstableShape {
                         mode: mode.clone(),
                         re,
                         im,
+                        feed,
                     });
                 }
             }
@@ -704,8 +705,9 @@ impl FullModel<'_> {
 
     /// What an unstable mode's shape says of its cause (`re`, `im` at every node of the
     /// model): its bodies' shares of kinetic energy and its pairs' parts of the growth rate
-    /// ([`growth`]), at the equilibrium its CEA was made about. A part that cannot be had
-    /// is left out and said in the log: it never fails the point.
+    /// ([`growth`]), at the equilibrium its CEA was made about; returns where on the pad
+    /// faces it is fed ([`UnstableShape::feed`]). A part that cannot be had is left out and
+    /// said in the log: it never fails the point.
     fn contributions(
         &self,
         mode: &mut cea::ComplexMode,
@@ -713,7 +715,7 @@ impl FullModel<'_> {
         equilibrium: &statics::StaticSolution,
         re: &[[f64; 3]],
         im: &[[f64; 3]],
-    ) {
+    ) -> Option<Vec<f64>> {
         let model = &self.model;
         let nodes = model.mesh.nodes.len();
         let energies = match body_energy::body_kinetic_energies(
@@ -729,7 +731,7 @@ impl FullModel<'_> {
                     "no body shares of the mode at {:.1} Hz: {e}",
                     mode.frequency_hz
                 );
-                return;
+                return None;
             }
         };
         mode.body_shares = Some(body_energy::shares(&energies));
@@ -738,9 +740,9 @@ impl FullModel<'_> {
         let modal_mass: f64 = energies.values().sum();
         let omega = mode.lambda.im;
         if modal_mass <= 0.0 || omega <= 0.0 {
-            return;
+            return None;
         }
-        match growth::pair_growth_rates(
+        match growth::point_growth_rates(
             pairs,
             &equilibrium.slip_before,
             &equilibrium.slip_after,
@@ -749,15 +751,27 @@ impl FullModel<'_> {
             omega,
             modal_mass,
         ) {
-            Ok(rates) => {
+            Ok(points) => {
+                let rates = growth::pair_growth_rates(pairs, &points);
                 mode.pair_shares = Some(growth::shares(&rates));
                 mode.pair_growth = Some(rates);
+                // Spread like the contact pressure: a density on the pad face.
+                let mut feed = vec![0.0; nodes];
+                for swept in &self.spread {
+                    for (node, density) in swept.pressure(&points[swept.pair]) {
+                        if node < nodes {
+                            feed[node] = density;
+                        }
+                    }
+                }
+                Some(feed)
             }
             Err(e) => {
                 tracing::warn!(
                     "no pair shares of the mode at {:.1} Hz: {e}",
                     mode.frequency_hz
-                )
+                );
+                None
             }
         }
     }

@@ -43,6 +43,10 @@ pub struct UnstableShape {
     pub mode: ComplexMode,
     pub re: Vec<[f64; 3]>,
     pub im: Vec<[f64; 3]>,
+    /// Where on the pad faces the mode is fed: each swept pair's points' parts of the
+    /// growth rate spread on their surface nodes as a density (1/s per m^2, like the contact
+    /// pressure from the forces); 0 elsewhere. `None` where not computed.
+    pub feed: Option<Vec<f64>>,
 }
 
 /// Fields on the mesh nodes for a point's VTU file.

@@ -64,6 +64,9 @@ pub fn write_fields(
         );
         all.push(Field::vector(format!("{name}_re"), &shape.re));
         all.push(Field::vector(format!("{name}_im"), &shape.im));
+        if let Some(feed) = &shape.feed {
+            all.push(Field::scalar(format!("{name}_feed"), feed.clone()));
+        }
     }
     let parts = Field::part_ids(mesh, 0);
     let mut writer = VtuWriter::new(mesh).cell_field(&parts);

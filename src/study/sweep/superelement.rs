@@ -655,7 +655,12 @@ impl<'rt> FrictionModel<'rt> for SuperElementModel<'rt> {
                 let im = mesh_part(dofs.displacements(&parts[1]), mesh);
                 let mut mode = cea.modes[j].clone();
                 mode.body_shares = self.base.body_shares(&re, &im);
-                unstable.push(UnstableShape { mode, re, im });
+                unstable.push(UnstableShape {
+                    mode,
+                    re,
+                    im,
+                    feed: None,
+                });
             }
         }
         let expansion_seconds = t_expand.elapsed().as_secs_f64();
