@@ -250,6 +250,11 @@ impl Report {
                 "contact_states.svg",
                 "Open, stick and slip shares of each contact pair against mu",
             ),
+            (
+                "contributions.svg",
+                "Why each instability squeals: its bodies' shares of kinetic energy and its \
+                 contact pairs' shares of the growth rate, at its largest real part",
+            ),
         ] {
             let path = Path::new("full").join(file);
             if out.join(&path).is_file() {

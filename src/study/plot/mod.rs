@@ -1,14 +1,15 @@
 //! SVG figures of the studies, drawn with `plotters` (its SVG backend: text stays text, so
 //! the files open in any browser and diff), each written with its PNG twin ([`png`]).
 //!
-//! One figure per file: [`stability_map`], [`sweep_tracks`], [`contact_states`] (a sweep's
-//! plots), [`comparison`] and [`contact_map`] (a comparison's). Each returns the SVG document; [`write_svg`]
+//! One figure per file: [`stability_map`], [`sweep_tracks`], [`contact_states`],
+//! [`contributions`] (a sweep's plots), [`comparison`] and [`contact_map`] (a comparison's). Each returns the SVG document; [`write_svg`]
 //! writes it and its PNG, each whole or not at all. Points that are NaN, infinite or beyond +-1e300 are
 //! skipped (and break lines), a figure without data says "no data".
 
 mod comparison;
 mod contact_map;
 mod contact_states;
+mod contributions;
 pub mod png;
 mod stability_map;
 mod style;
@@ -19,6 +20,7 @@ use std::path::Path;
 pub use comparison::comparison;
 pub use contact_map::{contact_map, ContactMapPanel, ContactMapPoint};
 pub use contact_states::contact_states;
+pub use contributions::{contributions, ContributionRow};
 pub use stability_map::stability_map;
 pub use sweep_tracks::sweep_tracks;
 

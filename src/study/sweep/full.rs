@@ -2,6 +2,7 @@
 //! reduced-interface model (a full-size model whose disc/pad interface is reduced). SNES
 //! gives the sliding equilibrium, SLEPc the CEA about it.
 
+use super::spread::{node_to_surface_spread, reduced_spread, spread_of, SweptSurface};
 use super::SweepSettings;
 use super::{
     EquilibriumState, FrictionModel, ModelCheckpoint, PathPoint, PointFields, PointOutcome,
@@ -63,44 +64,6 @@ pub struct FullModel<'rt> {
     /// The mass rule M was assembled with: the bodies' shares of a mode's kinetic energy
     /// use the same.
     mass_rule: MassRule,
-}
-
-/// A swept pair's pad surface: per contact point, the surface nodes it stands for with their
-/// weights c_ik and its own tributary area A_k, and every surface node's tributary area.
-///
-/// The pressure written at surface node i is the contact points' pressures F_k / A_k
-/// interpolated with the weights: `p_i = sum_k c_ik F_k / sum_k c_ik A_k`. A node-to-surface
-/// point stands for its own node alone (c = 1, A_k the node's area): `p_i = F_i / A_i`, the
-/// full model's nodal penalty pressure. A reduced contact node stands for its distributing
-/// coupling's nodes (c_ik = wbar_ik): a partition of unity, so that reduced contact nodes all
-/// at one pressure give exactly that pressure at every node they reach. (Dividing the
-/// spread force `sum_k wbar_ik F_k` by the node's own area instead, as before, gives a
-/// uniform pressure back with an 18 % L2 scatter on the small brake at 106 nodes per pad,
-/// because the weights ignore how much surface each node stands for.)
-struct SweptSurface {
-    pair: usize,
-    per_point: Vec<Vec<(usize, f64)>>,
-    point_area: Vec<f64>,
-    areas: std::collections::BTreeMap<usize, f64>,
-}
-
-impl SweptSurface {
-    /// The pressure at every surface node for the contact points' normal forces (see the
-    /// type's documentation); 0 where no point reaches.
-    fn pressure(&self, forces: &[f64]) -> std::collections::BTreeMap<usize, f64> {
-        let mut sums: std::collections::BTreeMap<usize, (f64, f64)> =
-            self.areas.keys().map(|&n| (n, (0.0, 0.0))).collect();
-        for ((nodes, &area), &force) in self.per_point.iter().zip(&self.point_area).zip(forces) {
-            for &(node, c) in nodes {
-                let s = sums.entry(node).or_default();
-                s.0 += c * force;
-                s.1 += c * area;
-            }
-        }
-        sums.into_iter()
-            .map(|(n, (f, a))| (n, if a > 0.0 { f / a } else { 0.0 }))
-            .collect()
-    }
 }
 
 /// Why a friction sweep of `model` would measure nothing: its swept pairs exist but no load
@@ -619,6 +582,8 @@ impl<'rt> FrictionModel<'rt> for FullModel<'rt> {
         let mut tracking_shapes = Vec::with_capacity(result.shapes.len());
         let mut unstable = Vec::new();
         let mut modes = result.modes.clone();
+        // What the unstable modes' shapes say of their cause: rank 0's time, for the log.
+        let mut why_seconds = 0.0;
         for (mode, (re, im)) in modes.iter_mut().zip(&result.shapes) {
             let (re, im) = (re.gather_to_zero()?, im.gather_to_zero()?);
             if root {
@@ -630,7 +595,9 @@ impl<'rt> FrictionModel<'rt> for FullModel<'rt> {
                 );
                 if mode.unstable {
                     let (re, im) = (dofs.displacements(&re), dofs.displacements(&im));
+                    let t_why = Instant::now();
                     let feed = self.contributions(mode, pairs, &equilibrium, &re, &im);
+                    why_seconds += t_why.elapsed().as_secs_f64();
                     let re = mesh_part(re, &self.model.mesh);
                     let im = mesh_part(im, &self.model.mesh);
                     unstable.push(UnstableShape {
@@ -641,6 +608,11 @@ impl<'rt> FrictionModel<'rt> for FullModel<'rt> {
                     });
                 }
             }
+        }
+        if root && why_seconds > 0.0 {
+            tracing::debug!(
+                "mu {mu}: bodies' and pairs' shares of the unstable modes in {why_seconds:.3} s"
+            );
         }
         // Peak resident memory so far (VmHWM), largest rank and all ranks together.
         let mut peak = [peak_rss_mib()];
@@ -781,63 +753,6 @@ impl FullModel<'_> {
 pub(super) fn mesh_part(mut values: Vec<[f64; 3]>, mesh: &Mesh) -> Vec<[f64; 3]> {
     values.truncate(mesh.nodes.len());
     values
-}
-
-/// Where a node-to-surface model's contact forces go: each swept pair's points to their
-/// slave node.
-fn node_to_surface_spread(model: &Model) -> Vec<SweptSurface> {
-    spread_of(model, |i| model.swept[i])
-}
-
-/// [`node_to_surface_spread`] of the pairs `which` picks.
-fn spread_of(model: &Model, which: impl Fn(usize) -> bool) -> Vec<SweptSurface> {
-    let mut spread = Vec::new();
-    for (i, pair) in model.pairs.iter().enumerate() {
-        let Some(Some((slave, _))) = model.pair_surfaces.get(i) else {
-            continue;
-        };
-        let Some(surface) = model.mesh.surfaces.get(slave) else {
-            continue;
-        };
-        if which(i) {
-            spread.push(SweptSurface {
-                pair: i,
-                per_point: pair.points.iter().map(|p| p.slave.clone()).collect(),
-                point_area: pair.points.iter().map(|p| p.area).collect(),
-                areas: contact::tributary_areas(&model.mesh, surface)
-                    .into_iter()
-                    .collect(),
-            });
-        }
-    }
-    spread
-}
-
-/// A reduced interface's contact points stand for their distributing couplings' pad nodes.
-fn reduced_spread(reduced: &reduce::ReducedInterface) -> Vec<SweptSurface> {
-    let model = &reduced.model;
-    let mut spread = Vec::new();
-    for pad in reduced.pads.iter().filter(|p| p.swept) {
-        let Some(i) = model.pairs.iter().position(|p| p.settings.name == pad.pair) else {
-            continue;
-        };
-        let Some(surface) = model.mesh.surfaces.get(&pad.grid.surface) else {
-            continue;
-        };
-        spread.push(SweptSurface {
-            pair: i,
-            per_point: pad
-                .couplings
-                .iter()
-                .map(|c| c.nodes.iter().map(|n| (n.node, n.weight)).collect())
-                .collect(),
-            point_area: pad.grid.nodes.iter().map(|n| n.area).collect(),
-            areas: contact::tributary_areas(&model.mesh, surface)
-                .into_iter()
-                .collect(),
-        });
-    }
-    spread
 }
 
 impl FullModel<'_> {

@@ -13,6 +13,7 @@ mod full;
 mod output;
 pub mod point_cache;
 mod settings;
+mod spread;
 mod superelement;
 
 pub use checkpoint::{EquilibriumState, ModelCheckpoint, PathPoint, SuperElementState};

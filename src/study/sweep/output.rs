@@ -189,7 +189,49 @@ fn write_plots(
             "Friction sweep: frequency and real part of each tracked mode",
         ),
     )?;
+    // Why each instability squeals, where its unstable modes carry their shares.
+    let rows = contribution_rows(reports, instabilities);
+    if !rows.is_empty() {
+        write_figure(
+            &dir.join("contributions.svg"),
+            plot::contributions(
+                &rows,
+                "Why each instability squeals: which part moves, which contact feeds it",
+            ),
+        )?;
+    }
     Ok(())
+}
+
+/// Per instability with shares at its largest real part, its bars, largest first.
+fn contribution_rows(
+    reports: &[SweepPointReport],
+    instabilities: &[Instability],
+) -> Vec<crate::study::plot::ContributionRow> {
+    let sorted = |shares: Option<&std::collections::BTreeMap<String, f64>>| {
+        let mut v: Vec<(String, f64)> = shares
+            .into_iter()
+            .flatten()
+            .map(|(k, v)| (k.clone(), *v))
+            .collect();
+        v.sort_by(|a, b| b.1.total_cmp(&a.1).then(a.0.cmp(&b.0)));
+        v
+    };
+    instabilities
+        .iter()
+        .filter_map(|i| {
+            let m = crate::results::mode_at_max(reports, i)?;
+            m.body_shares.as_ref()?;
+            Some(crate::study::plot::ContributionRow {
+                caption: format!(
+                    "{:.1} Hz at mu {:.2} (real part {:.1} 1/s)",
+                    i.frequency_hz_at_max, i.mu_at_max, i.max_real_part
+                ),
+                bodies: sorted(m.body_shares.as_ref()),
+                pairs: sorted(m.pair_shares.as_ref()),
+            })
+        })
+        .collect()
 }
 
 /// Writes a drawn figure whole, or says which file could not be drawn or written.
