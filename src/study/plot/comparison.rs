@@ -32,7 +32,7 @@ pub fn comparison(reference: &[Track], models: &[Track], title: &str) -> Result<
         let (stroke, look) = bold(k, true);
         lines.push(Line::new(t, stroke, look, true));
     }
-    draw(&lines, None, title)
+    draw(&lines, Vec::new(), title)
 }
 
 #[cfg(test)]

@@ -22,7 +22,7 @@ pub use contact_map::{contact_map, ContactMapPanel, ContactMapPoint};
 pub use contact_states::contact_states;
 pub use contributions::{contributions, ContributionRow};
 pub use stability_map::stability_map;
-pub use sweep_tracks::sweep_tracks;
+pub use sweep_tracks::{sweep_tracks, InstabilityLines};
 
 /// A mode on the stability map. `unstable` is the CEA's own classification
 /// ([`crate::analysis::cea::ComplexMode::unstable`]), so the map and the tables never

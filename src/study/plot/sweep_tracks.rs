@@ -1,17 +1,21 @@
 //! The sweep tracks: frequency (top) and real part (bottom) of each tracked mode against
 //! the friction coefficient, one line per track, the two panels sharing the mu axis.
-//! Tracks in an instability are drawn bold in palette colours and named in the legend;
-//! the stable ones are thin grey lines underneath, one legend entry for all.
+//! Each instability is drawn bold in one colour and marker of its own, its unstable track
+//! with filled markers and the partner it coupled with in the same colour with open ones,
+//! and the legend names each instability once; the stable tracks are thin grey lines
+//! underneath, in the frequency panel only (their real parts are zero, or the damping's),
+//! one legend entry for all. So a dense spectrum with many instabilities stays readable: a
+//! reader finds an instability by its colour in both panels and its name in the legend.
 
 use plotters::prelude::*;
 
 use super::style::{self, Entry, Look, Marker, MARKERS, MUTED, PALETTE};
 use super::{PlotError, Track};
 
-const WIDTH: u32 = 900;
+const WIDTH: u32 = 1020;
 const HEIGHT: u32 = 680;
-/// The legend, right of the panels.
-const SIDE: u32 = 200;
+/// The legend, right of the panels: wide enough for "6719 Hz, unstable from mu 0.10".
+const SIDE: u32 = 320;
 
 const STABLE_LINE: (RGBColor, u32) = (MUTED, 1);
 const STABLE_LOOK: Look = Look {
@@ -70,31 +74,85 @@ pub(super) fn bold(k: usize, black: bool) -> ((RGBColor, u32), Look) {
     ((colour, 2), look)
 }
 
-/// The tracks' SVG: `(name, [(mu, frequency Hz, real part 1/s)], unstable)` each, points in
-/// any order (lines join them in mu order).
-pub fn sweep_tracks(tracks: &[Track], title: &str) -> Result<String, PlotError> {
-    // Stable tracks first, so the unstable ones are drawn over them.
-    let stable = tracks.iter().filter(|t| !t.2);
-    let mut lines: Vec<Line> = stable
-        .clone()
-        .map(|t| Line::new(t, STABLE_LINE, STABLE_LOOK, false))
-        .collect();
-    for (k, t) in tracks.iter().filter(|t| t.2).enumerate() {
+/// An instability as the sweep figure draws it: its legend name and its tracks (indices
+/// into the figure's tracks): the unstable one and the partner it coupled with.
+#[derive(Clone, Debug, PartialEq)]
+pub struct InstabilityLines {
+    pub name: String,
+    pub track: usize,
+    pub partner: Option<usize>,
+}
+
+/// The tracks' SVG: `(name, [(mu, frequency Hz, real part 1/s)], _)` each, points in any
+/// order (lines join them in mu order); the tracks `instabilities` name are drawn as theirs,
+/// every other one as a stable mode (the tracks' own flag is not read).
+pub fn sweep_tracks(
+    tracks: &[Track],
+    instabilities: &[InstabilityLines],
+    title: &str,
+) -> Result<String, PlotError> {
+    let mut drawn = vec![false; tracks.len()];
+    let mut bold_lines = Vec::new();
+    let mut partners = false;
+    for (k, i) in instabilities.iter().enumerate() {
         let (stroke, look) = bold(k, false);
-        lines.push(Line::new(t, stroke, look, true));
+        if let Some(t) = tracks.get(i.track).filter(|_| !drawn[i.track]) {
+            drawn[i.track] = true;
+            let mut line = Line::new(t, stroke, look, true);
+            line.name = &i.name;
+            bold_lines.push(line);
+        }
+        if let Some(p) = i.partner.filter(|&p| p < tracks.len() && !drawn[p]) {
+            drawn[p] = true;
+            partners = true;
+            let open = Look {
+                fill: WHITE,
+                outline: Some(stroke.0),
+                ..look
+            };
+            bold_lines.push(Line::new(&tracks[p], stroke, open, false));
+        }
+    }
+    // Stable tracks first, so the instabilities are drawn over them; frequency only.
+    let mut lines: Vec<Line> = tracks
+        .iter()
+        .zip(&drawn)
+        .filter(|(_, &d)| !d)
+        .map(|(t, _)| {
+            let mut line = Line::new(t, STABLE_LINE, STABLE_LOOK, false);
+            line.real_part.clear();
+            line
+        })
+        .collect();
+    let stable = !lines.is_empty();
+    lines.extend(bold_lines);
+    let mut last = Vec::new();
+    if partners {
+        last.push(Entry {
+            name: "open markers: its partner".into(),
+            line: None,
+            look: Some(Look {
+                marker: Marker::Circle,
+                size: 4,
+                fill: WHITE,
+                outline: Some(BLACK),
+            }),
+        });
     }
     // One legend entry for all stable tracks.
-    let stable = (stable.count() > 0).then(|| Entry {
-        name: "stable modes".into(),
-        line: Some(STABLE_LINE),
-        look: Some(STABLE_LOOK),
-    });
-    draw(&lines, stable, title)
+    if stable {
+        last.push(Entry {
+            name: "stable modes (frequency only)".into(),
+            line: Some(STABLE_LINE),
+            look: Some(STABLE_LOOK),
+        });
+    }
+    draw(&lines, last, title)
 }
 
 /// Lines in the order given (later over earlier), the legend naming those that ask for it,
 /// then `last`.
-pub(super) fn draw(lines: &[Line], last: Option<Entry>, title: &str) -> Result<String, PlotError> {
+pub(super) fn draw(lines: &[Line], last: Vec<Entry>, title: &str) -> Result<String, PlotError> {
     let top: Vec<&[(f64, f64)]> = lines.iter().map(|l| &l.frequency[..]).collect();
     let bottom: Vec<&[(f64, f64)]> = lines.iter().map(|l| &l.real_part[..]).collect();
     let drawable = |panel: &[&[(f64, f64)]]| -> Vec<(f64, f64)> {
@@ -207,17 +265,33 @@ mod tests {
             })
             .collect();
         tracks[2].1[4].1 = f64::NAN; // a failed solve: a gap in the frequency line only
-        let svg = sweep_tracks(&tracks, "tracks").unwrap();
+                                     // Three instabilities: tracks 1 and 5 with partners 0 and 4, track 9 without.
+        let instability = |name: &str, track, partner| InstabilityLines {
+            name: name.into(),
+            track,
+            partner,
+        };
+        let instabilities = [
+            instability("1 Hz <\"a\">", 1, Some(0)),
+            instability("5 Hz", 5, Some(4)),
+            instability("9 Hz", 9, None),
+        ];
+        let svg = sweep_tracks(&tracks, &instabilities, "tracks").unwrap();
         check_xml(&svg).unwrap();
-        // Legend: the 3 unstable tracks and one entry for all stable ones.
-        let legend = 4;
-        assert_eq!(markers(&svg), 12 * 9 * 2 - 1 + legend);
+        // 7 stable tracks in the frequency panel only, the 5 of the instabilities in both;
+        // the legend: the 3 instabilities, the partners' entry and one for all stable ones.
+        // An open circle is two circles (fill, then outline): the first instability's partner
+        // (circles) in both panels and the partners' legend entry.
+        let legend = 5;
+        let outlines = 9 * 2 + 1;
+        assert_eq!(markers(&svg), 7 * 9 + 5 * 9 * 2 - 1 + legend + outlines);
         let text = texts(&svg);
-        assert!(text.contains(&"stable modes"));
-        assert!(text.contains(&"mode 1 &lt;&quot;1&quot;&gt;"));
+        assert!(text.contains(&"stable modes (frequency only)"));
+        assert!(text.contains(&"open markers: its partner"));
+        assert!(text.contains(&"1 Hz &lt;&quot;a&quot;&gt;"));
         assert!(
-            !text.iter().any(|t| t.starts_with("mode 2")),
-            "stable: no entry"
+            !text.iter().any(|t| t.starts_with("mode ")),
+            "tracks are named by their instability or not at all"
         );
         for label in ["Frequency (Hz)", "Real part (1/s)", "tracks"] {
             assert_eq!(text.iter().filter(|t| **t == label).count(), 1, "{label}");
@@ -230,12 +304,13 @@ mod tests {
             1
         );
         assert_eq!(text.iter().filter(|t| **t == "0.4").count(), 1);
-        // Stable: 9 tracks in 2 panels, the gap, the legend's swatch. Unstable: the first
-        // palette colour is track 1's, in 2 panels and the legend.
+        // Stable: 7 tracks in the top panel, the gap, the legend's swatch. The first palette
+        // colour is the first instability's: its track and its partner in 2 panels, and the
+        // legend.
         let grey = lines_in(&svg, "#9A9A9A");
-        assert_eq!(grey.len(), 9 * 2 + 1 + 1);
+        assert_eq!(grey.len(), 7 + 1 + 1);
         let blue = lines_in(&svg, "#0072B2");
-        assert_eq!(blue.len(), 3);
+        assert_eq!(blue.len(), 2 * 2 + 1);
         for line in grey.iter().chain(&blue) {
             assert!(
                 xs(line).windows(2).all(|w| w[1] > w[0]),
@@ -255,7 +330,14 @@ mod tests {
                 )
             })
             .collect();
-        let svg = sweep_tracks(&tracks, "many").unwrap();
+        let instabilities: Vec<InstabilityLines> = (0..60)
+            .map(|k| InstabilityLines {
+                name: format!("mode {k}"),
+                track: k,
+                partner: None,
+            })
+            .collect();
+        let svg = sweep_tracks(&tracks, &instabilities, "many").unwrap();
         check_xml(&svg).unwrap();
         let shown = texts(&svg)
             .iter()
@@ -273,9 +355,10 @@ mod tests {
             (vec![("empty".to_string(), vec![], true)], 0),
             (vec![("nan".to_string(), vec![(nan, nan, nan)], false)], 0),
             (vec![("one".to_string(), vec![(0.3, 1000.0, 0.0)], true)], 2),
+            // Stable: the frequency panel only.
             (
                 vec![("flat".to_string(), vec![(0.3, 1000.0, 0.0); 3], false)],
-                6,
+                3,
             ),
             (
                 vec![(
@@ -286,7 +369,18 @@ mod tests {
                 3,
             ),
         ] {
-            let svg = sweep_tracks(&tracks, "").unwrap();
+            // The flagged tracks as instabilities of their own.
+            let instabilities: Vec<InstabilityLines> = tracks
+                .iter()
+                .enumerate()
+                .filter(|(_, t)| t.2)
+                .map(|(k, t)| InstabilityLines {
+                    name: t.0.clone(),
+                    track: k,
+                    partner: None,
+                })
+                .collect();
+            let svg = sweep_tracks(&tracks, &instabilities, "").unwrap();
             check_xml(&svg).unwrap_or_else(|e| panic!("{e}\n{svg}"));
             if drawn == 0 {
                 assert!(svg.contains("no data"), "{tracks:?}");

@@ -182,10 +182,26 @@ fn write_plots(
             "Contact states: share of each pair's points open, sticking and slipping",
         ),
     )?;
+    // Each instability once, by the frequency where it grows most and where it starts.
+    let index = |id: usize| tracks.iter().position(|t| t.id == id);
+    let drawn: Vec<plot::InstabilityLines> = instabilities
+        .iter()
+        .filter_map(|i| {
+            Some(plot::InstabilityLines {
+                name: format!(
+                    "{:.0} Hz, unstable from mu {:.2}",
+                    i.frequency_hz_at_max, i.first_unstable_mu
+                ),
+                track: index(i.track)?,
+                partner: i.partner.and_then(index),
+            })
+        })
+        .collect();
     write_figure(
         &dir.join("friction_sweep.svg"),
         plot::sweep_tracks(
             &lines,
+            &drawn,
             "Friction sweep: frequency and real part of each tracked mode",
         ),
     )?;
