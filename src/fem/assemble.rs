@@ -24,6 +24,9 @@ pub enum AssemblyError {
     },
     #[error("on rank {rank}: {message}")]
     OnAnotherRank { rank: usize, message: String },
+    /// A field given on fewer nodes than the elements or point masses use.
+    #[error("a field on {given} nodes for a model that uses node {node}")]
+    FieldTooShort { given: usize, node: usize },
     #[error(transparent)]
     Petsc(#[from] PetscError),
 }

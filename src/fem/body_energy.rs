@@ -18,7 +18,8 @@ use std::collections::BTreeMap;
 pub const POINT_MASSES: &str = "point masses";
 
 /// x^H M_b x per body: each part of `mesh` by name, and [`POINT_MASSES`] when there are
-/// any. `re` and `im` hold the shape's displacement at every mesh node.
+/// any. `re` and `im` hold the shape's displacement at every mesh node (and at any further
+/// node a point mass sits on); shorter is an error, not a panic.
 pub fn body_kinetic_energies(
     mesh: &Mesh,
     point_masses: &[PointMass],
@@ -27,6 +28,19 @@ pub fn body_kinetic_energies(
     im: &[[f64; 3]],
 ) -> Result<BTreeMap<String, f64>, AssemblyError> {
     let materials = element_materials(mesh)?;
+    let needed = mesh
+        .elements
+        .iter()
+        .flatten()
+        .copied()
+        .chain(point_masses.iter().map(|p| p.node))
+        .max();
+    if let Some(node) = needed.filter(|&n| n >= re.len().min(im.len())) {
+        return Err(AssemblyError::FieldTooShort {
+            given: re.len().min(im.len()),
+            node,
+        });
+    }
     let dot = |a: &[f64; 3], b: &[f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
     let mut energies = BTreeMap::new();
     for part in &mesh.parts {
@@ -138,5 +152,12 @@ mod tests {
         let f = body_kinetic_energies(&mesh, &[], MassRule::Exact, &re, &im).unwrap();
         assert_eq!(e, f);
         assert!(shares(&BTreeMap::from([("a".to_string(), 0.0)])).is_empty());
+        // A shape on fewer nodes than a point mass sits on is refused, not read out of range.
+        let far = [PointMass { node: n, mass: 1.0 }];
+        let e = body_kinetic_energies(&mesh, &far, MassRule::Exact, &re, &im).unwrap_err();
+        assert!(
+            matches!(e, AssemblyError::FieldTooShort { node, .. } if node == n),
+            "{e}"
+        );
     }
 }

@@ -694,8 +694,8 @@ impl FullModel<'_> {
             &model.mesh,
             &model.point_masses,
             self.mass_rule,
-            &re[..nodes],
-            &im[..nodes],
+            re,
+            im,
         ) {
             Ok(e) => e,
             Err(e) => {
