@@ -117,10 +117,14 @@ fn bars(
         }
         let end = at(*share);
         let fill = if *share < 0.0 { grey } else { colour };
-        area.draw(&Rectangle::new(
-            [(zero.min(end), y + 4), (zero.max(end), y + ROW - 4)],
-            fill.filled(),
-        ))?;
+        // A share that rounds to no pixel gets no bar: a rectangle of zero width is invalid
+        // SVG, and the PNG's renderer said so once per bar on every sweep's log.
+        if end != zero {
+            area.draw(&Rectangle::new(
+                [(zero.min(end), y + 4), (zero.max(end), y + ROW - 4)],
+                fill.filled(),
+            ))?;
+        }
         area.draw(&Text::new(
             format!("{:.1} %", 100.0 * share),
             (zero.max(end) + 6, y + ROW / 2),
@@ -167,6 +171,17 @@ mod tests {
         }
         // Four bars (and the background).
         assert_eq!(tags(&svg, "rect").count(), 5, "{svg}");
+        // A share of no pixel is named but has no bar: a zero-width rectangle is invalid
+        // SVG (the PNG's renderer warned once per bar).
+        let rows = vec![ContributionRow {
+            caption: "5891.8 Hz, mu 0.60".into(),
+            bodies: vec![("bracket".into(), 1.0)],
+            pairs: vec![("bracket/pad".into(), 1.0), ("leading".into(), 1e-6)],
+        }];
+        let svg = contributions(&rows, "zero").unwrap();
+        assert!(texts(&svg).iter().any(|x| x.contains("0.0 %")), "{svg}");
+        assert_eq!(tags(&svg, "rect").count(), 3, "{svg}");
+        assert!(!svg.contains("width=\"0\""), "{svg}");
         let empty = contributions(&[], "none").unwrap();
         assert!(texts(&empty).iter().any(|x| x.contains("no data")));
     }
