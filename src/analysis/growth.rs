@@ -44,19 +44,17 @@ pub struct Shape<'a> {
 
 /// Each contact point's part of the growth rate, a_k = -Im(x^H J_k x) / (2 omega m) (1/s),
 /// per pair in the model's order, with the contact tangent of a CEA about `u`
-/// ([`crate::analysis::statics::add_perturbation_tangent`]: history `before`, `after` for
-/// CalculiX's law); `omega` is Im(lambda) (rad/s) and `modal_mass` x^H M x. An open point's
-/// part is 0.
+/// ([`crate::analysis::statics::add_perturbation_tangent`]: the committed history `after`);
+/// `omega` is Im(lambda) (rad/s) and `modal_mass` x^H M x. An open point's part is 0.
 pub fn point_growth_rates(
     pairs: &[ContactPair],
-    before: &SlipHistory,
     after: &SlipHistory,
     u: &[[f64; 3]],
     shape: Shape<'_>,
     omega: f64,
     modal_mass: f64,
 ) -> Result<Vec<Vec<f64>>, ContactError> {
-    let history = contact::perturbation_history(pairs, before, after);
+    let history = contact::perturbation_history(pairs, after);
     let scale = -1.0 / (2.0 * omega * modal_mass);
     let mut rates = Vec::with_capacity(pairs.len());
     for (i, pair) in pairs.iter().enumerate() {

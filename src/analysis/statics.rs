@@ -137,12 +137,14 @@ pub struct StaticSolution {
     /// `displacement` to [`tangent`] and [`add_contact_tangent`]).
     pub slip_before: SlipHistory,
     /// The history after the equilibrium, committed: where a following solve (the next
-    /// friction value) starts from.
+    /// friction value) starts from, and what a perturbation step's tangent is evaluated
+    /// with ([`contact::perturbation_history`]).
     pub slip_after: SlipHistory,
 }
 
-/// An equilibrium as the contact law sees it: the displacements and the slip history they
-/// were reached from (their states and consistent tangent follow from the two).
+/// An equilibrium as the contact law sees it: the displacements and their committed slip
+/// history (their states and the perturbation tangent follow from the two:
+/// [`contact::perturbation_history`]).
 #[derive(Clone, Copy, Debug)]
 pub struct Configuration<'a> {
     pub displacement: &'a [[f64; 3]],
@@ -153,7 +155,7 @@ impl StaticSolution {
     pub fn configuration(&self) -> Configuration<'_> {
         Configuration {
             displacement: &self.displacement,
-            slip: &self.slip_before,
+            slip: &self.slip_after,
         }
     }
 }
@@ -387,22 +389,19 @@ pub fn add_contact_tangent<'rt>(
 
 /// Adds `scale` times the contact tangent of a perturbation step about the equilibrium
 /// `u` (a CEA, a `*FREQUENCY` after a `*STATIC`) into `j`, and assembles: the consistent
-/// tangent of the equilibrium's last increment (history `before`), except for pairs with
-/// CalculiX's law, which take CalculiX's perturbation tangent (the committed history
-/// `after`, and the stick slope across a steady-sliding point's direction:
-/// [`contact::variant`]). Collective.
-#[allow(clippy::too_many_arguments)]
+/// tangent from the equilibrium's committed history `after`
+/// ([`contact::perturbation_history`]), and for pairs with CalculiX's law the stick slope
+/// across a steady-sliding point's direction ([`contact::variant`]). Collective.
 pub fn add_perturbation_tangent<'rt>(
     comm: Comm<'rt>,
     j: &mut Matrix<'rt>,
     dofs: &DofMap,
     pairs: &[ContactPair],
-    before: &SlipHistory,
     after: &SlipHistory,
     u: &[[f64; 3]],
     scale: f64,
 ) -> Result<(), StaticsError> {
-    let history = contact::perturbation_history(pairs, before, after);
+    let history = contact::perturbation_history(pairs, after);
     add_contact_tangent(comm, j, dofs, pairs, &history, u, scale)?;
     if pairs.iter().all(|p| p.settings.calculix.is_none()) {
         return Ok(());

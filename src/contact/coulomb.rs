@@ -93,9 +93,8 @@ pub struct PointLaw {
     /// `k_t A`.
     pub stick_stiffness: f64,
     /// A point whose trial force reaches this fraction below the cone's radius already
-    /// slips: 0 for squeal's law; CalculiX's variant re-evaluates a slipping point from its
-    /// committed anchor, whose trial force is on the cone to round-off, and keeps it
-    /// slipping ([`super::variant`]).
+    /// slips: a slipping point evaluated again from its committed anchor, whose trial force
+    /// is on the cone to round-off, stays slipping ([`COMMITTED_CONE_TOLERANCE`]).
     pub cone_tolerance: f64,
 }
 
@@ -126,6 +125,18 @@ pub fn return_mapping(
         };
     }
     let projector = |i: usize, j: usize| f64::from(u8::from(i == j)) - normal[i] * normal[j];
+    // A point pulled apart (a bilateral pair under tension) can carry no friction: it slips
+    // with no force whatever its trial force, also when that is exactly zero, as it is from
+    // the anchor its slip committed (the slip branch below gives the same at any other
+    // trial force). Touching at zero pressure still sticks.
+    if normal_force < 0.0 {
+        return Tangential {
+            status: Status::Slip,
+            force: [0.0; 3],
+            jacobian: [[0.0; 3]; 3],
+            anchor: tangential,
+        };
+    }
     let trial = scale(-stick_stiffness, sub(tangential, anchor));
     let size = norm(trial);
     let radius = friction * normal_force.max(0.0);
@@ -206,9 +217,12 @@ impl SlipHistory {
     }
 }
 
-/// The CalculiX variant's [`PointLaw::cone_tolerance`]: far above the round-off of the
-/// anchor update (1e-16 relative), far below any physical distance from the cone.
-const CALCULIX_CONE_TOLERANCE: f64 = 1e-9;
+/// Every pair's [`PointLaw::cone_tolerance`]: far above the round-off of the anchor update
+/// (1e-16 relative), far below any physical distance from the cone. A point evaluated again
+/// from the anchor its slip committed (a perturbation step's tangent,
+/// [`super::perturbation_history`]) has its trial force on the cone to round-off, and stays
+/// slipping whatever that round-off is.
+pub const COMMITTED_CONE_TOLERANCE: f64 = 1e-9;
 
 /// The law of a pair's point (`k_t` = 0 for steady sliding).
 pub(super) fn point_law(pair: &ContactPair, point: &ContactPoint) -> PointLaw {
@@ -217,11 +231,7 @@ pub(super) fn point_law(pair: &ContactPair, point: &ContactPoint) -> PointLaw {
         friction: pair.settings.friction,
         normal_stiffness: pair.penalty * point.area,
         stick_stiffness: pair.stick_stiffness().unwrap_or(0.0) * point.area,
-        cone_tolerance: if pair.settings.calculix.is_some() {
-            CALCULIX_CONE_TOLERANCE
-        } else {
-            0.0
-        },
+        cone_tolerance: COMMITTED_CONE_TOLERANCE,
     }
 }
 
@@ -266,6 +276,50 @@ mod tests {
         // Frictionless: closed points slip freely.
         let free = at([0.05, 0.0, -0.01], [0.0; 3], 0.0);
         assert_eq!((free.status, free.force), (Status::Slip, [0.0; 3]));
+    }
+
+    /// Evaluated again from the anchor its slip committed, a slipping point stays slipping
+    /// with the full stick stiffness across its slip direction, whatever the round-off of
+    /// its trial force (the perturbation tangent, [`super::super::perturbation_history`]);
+    /// a point pulled apart (bilateral, under tension) slips with no force and no stiffness,
+    /// though its committed trial force is exactly zero.
+    #[test]
+    fn a_committed_slip_stays_slipping_and_a_pulled_point_carries_no_friction() {
+        let law = PointLaw {
+            normal: N,
+            friction: 0.3,
+            normal_stiffness: 1e3,
+            stick_stiffness: 1e2,
+            cone_tolerance: COMMITTED_CONE_TOLERANCE,
+        };
+        let w = [0.05, 0.02, -0.01];
+        let slip = return_mapping(&law, w, [0.0; 3], 10.0, true);
+        assert_eq!(slip.status, Status::Slip);
+        let again = return_mapping(&law, w, slip.anchor, 10.0, true);
+        assert_eq!(again.status, Status::Slip);
+        // Across the slip direction s: the stick stiffness (mu p / |f_trial| = 1); along s
+        // and along n: only the friction's mu s (dp/dw).
+        let s = scale(1.0 / norm(again.force), again.force);
+        let across = [-s[1], s[0], 0.0];
+        let along = |v: [f64; 3]| -> [f64; 3] {
+            let mut out = [0.0; 3];
+            for (i, o) in out.iter_mut().enumerate() {
+                *o = (0..3).map(|j| again.jacobian[i][j] * v[j]).sum();
+            }
+            out
+        };
+        let k_across = along(across);
+        for i in 0..3 {
+            assert!((k_across[i] + 1e2 * across[i]).abs() < 1e-9, "{k_across:?}");
+            assert!(along(s)[i].abs() < 1e-9, "{:?}", along(s));
+        }
+        // Under tension (p < 0), from the anchor its slip left: no friction at all.
+        let pulled = return_mapping(&law, w, [0.05, 0.02, 0.0], -10.0, true);
+        assert_eq!(pulled.status, Status::Slip);
+        assert_eq!((pulled.force, pulled.jacobian), ([0.0; 3], [[0.0; 3]; 3]));
+        // Touching at zero pressure from rest still sticks (the restraint check's case).
+        let touching = return_mapping(&law, [0.0; 3], [0.0; 3], 0.0, true);
+        assert_eq!(touching.status, Status::Stick);
     }
 
     /// The consistent tangent against central differences, in the stick and slip states,

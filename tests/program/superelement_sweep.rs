@@ -516,15 +516,20 @@ fn a_floating_caliper_superelement_holds_its_equilibrium_and_the_instabilities()
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// The adaptive strategy reuses a super-element while no kept contact changes state, and
-/// re-projects this mu's tangent on its basis (`reduce::reproject`): only the basis is then
-/// old. Floating caliper (tiny-caliper, 22 nodes per pad, 0-4 kHz, cut-off 8 kHz), mu 0.7,
-/// 0.8, 0.9: one super-element, built at 0.7 and reused at 0.8 and 0.9, against the
-/// reduced-interface model at each mu. Measured: every mode within 1.25 % and 1.35 %, the
-/// unstable ones within 0.14 % and 0.20 %; reusing the old K_r instead gave 9.0 % and 9.6 %
-/// (unstable 1.5 %). The error estimate of the expanded modes must bound each mode's error
-/// and stay finite: checked at the expanded dense static, a kept Coulomb point a hair from
-/// its state boundary flipped and put estimates of 1e3 on modes within 1.4 %.
+/// The adaptive strategy reuses a super-element while no kept contact changes state and no
+/// slipping one turns its slip direction by more than 1 degree, and re-projects this mu's
+/// tangent on its basis (`reduce::reproject`): only the basis is then old. Floating caliper
+/// (tiny-caliper, 22 nodes per pad, 0-4 kHz, cut-off 8 kHz), mu 0.7, 0.7005, 0.8: built at
+/// 0.7, reused at 0.7005 (the kept points turned by up to 0.55 degrees), built again at 0.8
+/// (up to 9.8 degrees), against the reduced-interface model at each mu. Measured at 0.7005:
+/// every mode within 2.05 % (3786 Hz, near the band's top; as far off at 0.7, where the
+/// super-element is new), the unstable ones within 0.32 %. Reused at 0.8 (the rule before the
+/// turn was measured), the first mode came out 9.3 % off (464 Hz against 424 Hz) with
+/// estimates of 10 to 100: a slipping point is held across its slip direction by the stick
+/// stiffness, and a basis made with one direction does not stand for another. The error
+/// estimate of the expanded modes must bound each mode's error and stay finite: checked at
+/// the expanded dense static, a kept Coulomb point a hair from its state boundary flipped
+/// and put estimates of 1e3 on modes within 1.4 %.
 #[test]
 fn a_reused_superelement_carries_this_frictions_tangent() {
     let dir = scratch("reproject");
@@ -532,7 +537,7 @@ fn a_reused_superelement_carries_this_frictions_tangent() {
     let run = |name: &str, extra: &[&str]| {
         let mut args = vec!["--pad-coupling", "distributing"];
         args.extend_from_slice(extra);
-        caliper_sweep(&dir.join(name), "0.7,0.8,0.9", &args)
+        caliper_sweep(&dir.join(name), "0.7,0.7005,0.8", &args)
     };
     let reference = run("reduced", &[]);
     let adaptive = run("adaptive", &["--superelements", "adaptive"]);
@@ -541,7 +546,9 @@ fn a_reused_superelement_carries_this_frictions_tangent() {
         .iter()
         .map(|p| p["superelement"]["rebuilt"].as_bool().unwrap())
         .collect();
-    assert_eq!(rebuilt, [true, false, false], "which points built one");
+    assert_eq!(rebuilt, [true, false, true], "which points built one");
+    let reason = points[2]["superelement"]["reason"].as_str().unwrap();
+    assert!(reason.contains("turned their slip direction"), "{reason}");
     let built_count = points[0]["eigenvalues"].as_array().unwrap().len();
     for (k, (r, a)) in reference["points"]
         .as_array()
@@ -552,9 +559,9 @@ fn a_reused_superelement_carries_this_frictions_tangent() {
         .skip(1)
     {
         let (rm, am) = (common::eigenvalues_of(r), common::eigenvalues_of(a));
-        // The reused basis keeps the built point's mode count (28 of the reference's 29
-        // below 4 kHz; the 29th sits at 3.99 kHz, on the band's edge).
+        // Both super-elements have the reference's 26 modes below 4 kHz.
         assert_eq!(am.len(), built_count, "point {k}: {am:?}");
+        assert_eq!(am.len(), rm.len(), "point {k}: {am:?}");
         let estimates = a["superelement"]["frequency_error_estimates"]
             .as_array()
             .unwrap();
@@ -564,7 +571,8 @@ fn a_reused_superelement_carries_this_frictions_tangent() {
                 .min_by(|x, y| (x.0 - mode.0).abs().total_cmp(&(y.0 - mode.0).abs()))
                 .unwrap();
             let error = (nearest.0 - mode.0).abs() / nearest.0;
-            let limit = if mode.2 || nearest.2 { 5e-3 } else { 2e-2 };
+            // A new super-element's 3786 Hz mode (0.95 of the band's top) is 2.05 % off.
+            let limit = if mode.2 || nearest.2 { 5e-3 } else { 2.5e-2 };
             assert!(
                 error < limit,
                 "point {k}: {mode:?} against {nearest:?} ({error:e}, limit {limit})"

@@ -53,11 +53,10 @@ fn friction_coupled(model: &Model, states: &[Vec<PointState>]) -> bool {
     })
 }
 
-/// The slip history the contact states about the base state are evaluated with (those of
-/// its last increment; CalculiX's variant: the committed one, see
-/// [`statics::add_perturbation_tangent`]).
+/// The slip history the contact states about the base state are evaluated with (the
+/// committed one, see [`statics::add_perturbation_tangent`]).
 fn tangent_history(model: &Model, base: &BaseState) -> SlipHistory {
-    crate::contact::perturbation_history(&model.pairs, &base.slip_before, &base.slip_after)
+    crate::contact::perturbation_history(&model.pairs, &base.slip_after)
 }
 
 /// Adds `scale` times the contact tangent at `u` into the stiffness (collective).
@@ -94,7 +93,6 @@ fn add_base_tangent<'rt>(
         stiffness,
         dofs,
         pairs,
-        &base.slip_before,
         &base.slip_after,
         &base.displacement,
         scale,
@@ -181,7 +179,6 @@ pub(super) fn complex_frequency(
             rest = BaseState {
                 step: 0,
                 displacement: vec![[0.0; 3]; model.node_count()],
-                slip_before: SlipHistory::default(),
                 slip_after: SlipHistory::default(),
                 load: vec![[0.0; 3]; model.node_count()],
             };

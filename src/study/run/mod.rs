@@ -56,10 +56,8 @@ pub(super) struct BaseState {
     /// 1-based number of the step.
     step: usize,
     displacement: Vec<[f64; 3]>,
-    /// The history its last increment started from (with `displacement`, the contact
-    /// states and the consistent tangent).
-    slip_before: SlipHistory,
-    /// The committed history (where the next static step starts).
+    /// The committed history (where the next static step starts, and the one a perturbation
+    /// step's contact states and tangent are evaluated with).
     slip_after: SlipHistory,
     /// The load it carries, per node.
     load: Vec<[f64; 3]>,

@@ -127,7 +127,6 @@ pub(super) fn run(
         BaseState {
             step,
             displacement: solution.displacement,
-            slip_before: solution.slip_before,
             slip_after: solution.slip_after,
             load,
         },

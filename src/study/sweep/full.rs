@@ -506,7 +506,6 @@ impl<'rt> FrictionModel<'rt> for FullModel<'rt> {
             .map_err(|source| StudyError::Static { mu, source })?;
         let mut contact_reports = Vec::new();
         let mut normal_total = 0.0;
-        let slip = &equilibrium.slip_before;
         for ((pair, states), &swept) in pairs
             .iter()
             .zip(&equilibrium.contact)
@@ -531,7 +530,7 @@ impl<'rt> FrictionModel<'rt> for FullModel<'rt> {
             self.free_mass = pencil::projected_mass(&self.operators)?;
         }
         let after = &equilibrium.slip_after;
-        let mut result = self.cea_about(comm, mu, pairs, slip, after, u)?;
+        let mut result = self.cea_about(comm, mu, pairs, after, u)?;
         let t_edge = Instant::now();
         let edge = if self.edge_points > 0 {
             let mut check = EdgeCheck {
@@ -550,7 +549,7 @@ impl<'rt> FrictionModel<'rt> for FullModel<'rt> {
                 let modes = if count == 0 {
                     result.modes.clone()
                 } else {
-                    let moved = self.cea_about(comm, mu, pairs, slip, after, &moved)?;
+                    let moved = self.cea_about(comm, mu, pairs, after, &moved)?;
                     result
                         .modes
                         .iter()
@@ -716,7 +715,6 @@ impl FullModel<'_> {
         }
         match growth::point_growth_rates(
             pairs,
-            &equilibrium.slip_before,
             &equilibrium.slip_after,
             &equilibrium.displacement,
             growth::Shape { re, im },
@@ -878,14 +876,13 @@ fn fields_with(
 
 impl<'rt> FullModel<'rt> {
     /// The CEA about the equilibrium `u` at friction `mu`: the tangent of the perturbation
-    /// (the last increment's consistent one, CalculiX's for pairs with its law:
-    /// contact::variant) formed in K for the CEA (`analysis::pencil`), taken out after.
+    /// (the consistent one from the committed history `after`, with CalculiX's additions for
+    /// pairs with its law: contact::variant) formed in K for the CEA (`analysis::pencil`), taken out after.
     fn cea_about(
         &mut self,
         comm: Comm<'rt>,
         mu: f64,
         pairs: &[contact::ContactPair],
-        slip: &SlipHistory,
         after: &SlipHistory,
         u: &[[f64; 3]],
     ) -> Result<cea::CeaResult<'rt>, StudyError> {
@@ -896,10 +893,8 @@ impl<'rt> FullModel<'rt> {
                 let Operators {
                     dofs, stiffness, ..
                 } = ops;
-                statics::add_perturbation_tangent(
-                    comm, stiffness, dofs, pairs, slip, after, u, scale,
-                )
-                .map_err(|source| StudyError::Tangent { mu, source })
+                statics::add_perturbation_tangent(comm, stiffness, dofs, pairs, after, u, scale)
+                    .map_err(|source| StudyError::Tangent { mu, source })
             },
             |ops| {
                 let pencil = match free_mass {

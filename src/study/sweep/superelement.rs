@@ -66,6 +66,25 @@ struct Current {
     /// The slip history its equilibrium was reached from (the kept Coulomb pairs' tangent
     /// and states at that equilibrium come from it).
     slip: SlipHistory,
+    /// The kept pairs' slipping points' friction forces at the equilibrium it was made at
+    /// (what the adaptive strategy measures their turn from).
+    slipping: Vec<Vec<Option<[f64; 3]>>>,
+}
+
+/// The friction force of each kept (not swept) pair's slipping points, `None` elsewhere.
+fn slipping_forces(swept: &[usize], states: &[Vec<PointState>]) -> Vec<Vec<Option<[f64; 3]>>> {
+    states
+        .iter()
+        .enumerate()
+        .map(|(i, pair)| {
+            pair.iter()
+                .map(|s| {
+                    (!swept.contains(&i) && s.closed && s.status == Status::Slip)
+                        .then_some(s.friction_force)
+                })
+                .collect()
+        })
+        .collect()
 }
 
 /// A friction sweep of the super-element assembly of a reduced-interface model.
@@ -222,6 +241,13 @@ impl<'rt> SuperElementModel<'rt> {
         )
         .map_err(|source| StudyError::SuperElement { mu, source })?;
         self.interior_modes = Some(cb.superelement.header.modes);
+        let states =
+            statics::contact_states(&self.base.model.pairs_at(mu), at.slip, at.displacement)
+                .map_err(|e| StudyError::SuperElement {
+                    mu,
+                    source: e.into(),
+                })?;
+        let slipping = slipping_forces(&self.swept, &states);
         let basis = LocalBasis::from_dense(&cb.basis)?;
         let mut se = cb.superelement;
         se.header.mesh_hash = self.mesh_hash.clone();
@@ -236,6 +262,7 @@ impl<'rt> SuperElementModel<'rt> {
             made_at: mu,
             made_from: EquilibriumState::new(mu, at.displacement, at.slip),
             slip: at.slip.clone(),
+            slipping,
         });
         Ok(())
     }
@@ -272,12 +299,12 @@ impl<'rt> SuperElementModel<'rt> {
             .zip(&current.boundary_points)
         {
             let p = &model.pairs[i];
-            let anchor = equilibrium.slip_before.anchor(i, k);
+            let anchor = equilibrium.slip_after.anchor(i, k);
             pair.normal_force =
                 contact::point_state(p, &p.points[k], anchor, &equilibrium.displacement)?
                     .normal_force;
         }
-        current.slip = equilibrium.slip_before.clone();
+        current.slip = equilibrium.slip_after.clone();
         Ok(())
     }
 
@@ -352,13 +379,33 @@ impl<'rt> SuperElementModel<'rt> {
             .iter()
             .map(|i| i.factorizations)
             .sum();
-        let decision = strategy.decide(
+        let mut decision = strategy.decide(
             at,
             self.current
                 .as_ref()
                 .map(|c| &c.se.header.other_contacts[..]),
             || self.kept_states(&equilibrium),
         );
+        // The states alone do not say whether the basis still holds: a slipping point is held
+        // across its slip direction, and that direction turns with friction.
+        let limit = reduce::strategy::MAX_SLIP_TURN_DEGREES;
+        let mut largest_turn = 0.0;
+        if let (Decision::Reuse, Some(current)) = (&decision, &self.current) {
+            let now = slipping_forces(&self.swept, &equilibrium.contact);
+            let (turned, largest) = reduce::strategy::slip_turns(&current.slipping, &now, limit);
+            largest_turn = largest;
+            tracing::debug!(
+                "mu {mu}: the kept slipping points turned by up to {largest:.2} degrees since \
+                 the super-element was made"
+            );
+            if turned > 0 {
+                decision = Decision::Rebuild(format!(
+                    "adaptive: {turned} slipping kept points turned their slip direction by \
+                     more than {limit} degrees (up to {largest:.1}) since mu {}",
+                    current.made_at
+                ));
+            }
+        }
         let t = Instant::now();
         match decision {
             Decision::Rebuild(why) => {
@@ -369,9 +416,11 @@ impl<'rt> SuperElementModel<'rt> {
             Decision::Reuse => {
                 self.reproject(comm, &equilibrium, mu)?;
                 self.move_to(comm, &equilibrium)?;
-                choice.reason = "adaptive: no kept contact changed state; its basis reused, \
-                     this mu's tangent projected on it, moved to this mu's equilibrium"
-                    .into();
+                choice.reason = format!(
+                    "adaptive: no kept contact changed state, no slipping one turned by more \
+                     than {limit} degrees (up to {largest_turn:.2}); its basis reused, this \
+                     mu's tangent projected on it, moved to this mu's equilibrium"
+                );
             }
         }
         choice.build_seconds = t.elapsed().as_secs_f64();
@@ -594,7 +643,7 @@ impl<'rt> FrictionModel<'rt> for SuperElementModel<'rt> {
             // modes were within 1.4 %. The single super-element away from mu_SE has no such
             // equilibrium (not solving it is its point): the expanded static stands in.
             let (u_tangent, slip_tangent) = match &choice.equilibrium {
-                Some(e) => (&e.displacement, &e.slip_before),
+                Some(e) => (&e.displacement, &e.slip_after),
                 None => (&u_static, &current.slip),
             };
             let (ku, mu_shapes, diagonal) =
