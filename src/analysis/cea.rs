@@ -11,7 +11,7 @@
 
 use super::rigid;
 use crate::petsc::{
-    Comm, EigenOptions, EigenProblem, EigenSolver, LinearMethod, Matrix, PetscError,
+    Comm, EigenOptions, EigenProblem, EigenSolver, LeftSolver, LinearMethod, Matrix, PetscError,
     QuadraticEigenSolver, QuadraticOptions, Spectrum, Structure, Vector,
 };
 use num_complex::Complex64;
@@ -60,6 +60,9 @@ pub struct CeaOptions {
     /// small consistent mass) lift that into the band: medium-caliper's lowest modes,
     /// 430-730 Hz, were called rigid, and so never unstable (see [`crate::analysis::rigid`]).
     pub expected_rigid_modes: Option<usize>,
+    /// Whether the unstable modes' left eigenvectors are computed too (undamped CEA only):
+    /// what their sensitivities are made of ([`crate::analysis::sensitivity`]).
+    pub left_vectors: bool,
 }
 
 impl Default for CeaOptions {
@@ -72,6 +75,7 @@ impl Default for CeaOptions {
             expected_modes: None,
             linear: LinearMethod::default(),
             expected_rigid_modes: None,
+            left_vectors: false,
         }
     }
 }
@@ -147,8 +151,28 @@ pub struct ComplexMode {
     /// `pair_growth` over its sum (summing to 1; negative for a pair that takes energy out).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub pair_shares: Option<std::collections::BTreeMap<String, f64>>,
+    /// The backward error of the mode's left eigenvector, where one was computed
+    /// ([`LeftVector::residual`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub left_residual: Option<f64>,
+    /// How the eigenvalue moves with the swept friction along the sweep
+    /// ([`crate::analysis::sensitivity`]). Given for unstable modes of full-size models.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sensitivity: Option<crate::analysis::sensitivity::Sensitivity>,
     #[serde(skip)]
     pub lambda: Complex64,
+}
+
+/// The left eigenvector y of a mode (y^H K = omega^2 y^H M), in the solver's numbering.
+pub struct LeftVector<'rt> {
+    pub re: Vector<'rt>,
+    pub im: Vector<'rt>,
+    /// Its backward error |K^T z - omega^2 M z| / (|K^T z| + |omega^2| |M z|), z = conj(y):
+    /// round-off for an exact pair.
+    pub residual: f64,
+    /// y^H M x with the mode's shape x as [`CeaResult::shapes`] holds it: the denominator
+    /// of every first-order change of omega^2 (omega^2' = y^H K' x / y^H M x).
+    pub mass_form: Complex64,
 }
 
 /// The modes and their shapes, sorted by frequency.
@@ -156,6 +180,9 @@ pub struct CeaResult<'rt> {
     pub modes: Vec<ComplexMode>,
     /// Real and imaginary parts of each shape, normalised so the largest component is 1 + 0i.
     pub shapes: Vec<(Vector<'rt>, Vector<'rt>)>,
+    /// Each mode's left eigenvector, where asked for ([`CeaOptions::left_vectors`]: the
+    /// unstable modes of an undamped CEA), in the modes' order.
+    pub left: Vec<Option<LeftVector<'rt>>>,
     /// Targets used (omega^2 for undamped, lambda for damped).
     pub targets: Vec<f64>,
 }
@@ -231,6 +258,8 @@ pub fn mode_from_lambda(
         body_shares: None,
         pair_growth: None,
         pair_shares: None,
+        left_residual: None,
+        sensitivity: None,
         lambda,
     }
 }
@@ -326,6 +355,149 @@ fn normalise(re: &mut Vector, im: &mut Vector, comm: Comm) -> Result<(), PetscEr
     Ok(())
 }
 
+/// A pair the undamped CEA keeps: omega^2, its residual, its shape (re, im), its left vector.
+type Accepted<'rt> = (
+    Complex64,
+    f64,
+    Vector<'rt>,
+    Vector<'rt>,
+    Option<LeftVector<'rt>>,
+);
+
+/// How far apart the forward and the transposed solve may put one eigenvalue, relative to
+/// its modulus: both converge to the CEA's tolerance (1e-10), so 1e-6 is far above their
+/// disagreement and far below the gap to any other eigenvalue a band resolves.
+const SAME_EIGENVALUE: f64 = 1e-6;
+
+/// The left eigenvectors of the window's unstable pairs among `accepted` (found about
+/// `target` by `eps`; `found` all of the window's converged (index, omega^2), nearest
+/// first), from the window's own factorisation ([`LeftSolver`]): as many pairs of the
+/// transposed pencil as the forward solve found out to the farthest unstable one, and its
+/// conjugate. A pair the transposed solve does not find is left without and said in the
+/// log. Collective.
+fn left_vectors<'rt>(
+    comm: Comm<'rt>,
+    eps: &EigenSolver<'rt>,
+    (stiffness, mass): (&Matrix<'rt>, &Matrix<'rt>),
+    target: f64,
+    found: &[(usize, Complex64)],
+    accepted: &mut [Accepted<'rt>],
+    options: &CeaOptions,
+) -> Result<(), CeaError> {
+    let wanted: Vec<usize> = (0..accepted.len())
+        .filter(|&k| is_unstable(lambda_of(accepted[k].0), options.unstable_threshold))
+        .collect();
+    let Some(reach) = wanted
+        .iter()
+        .map(|&k| (accepted[k].0 - target).norm())
+        .reduce(f64::max)
+    else {
+        return Ok(());
+    };
+    let count = found
+        .iter()
+        .filter(|f| (f.1 - target).norm() <= reach * (1.0 + SAME_EIGENVALUE))
+        .count()
+        .max(2);
+    // A left solve that fails costs the sensitivities, never the modes (PETSc's errors are
+    // every rank's here: the same solve on the same operator).
+    let left = match LeftSolver::solve(
+        comm,
+        eps,
+        mass,
+        target,
+        count,
+        (2 * count).max(count + 16),
+        options.tolerance,
+    ) {
+        Ok(left) => left,
+        Err(e) => {
+            tracing::warn!("no left eigenvectors about omega^2 = {target:.6e}: {e}");
+            return Ok(());
+        }
+    };
+    let values = (0..left.converged())
+        .map(|i| left.value(i))
+        .collect::<Result<Vec<_>, _>>()?;
+    let (template, _) = stiffness.vectors()?;
+    for k in wanted {
+        let value = accepted[k].0;
+        let nearest = values
+            .iter()
+            .enumerate()
+            .min_by(|a, b| (a.1 - value).norm().total_cmp(&(b.1 - value).norm()));
+        let Some((i, _)) =
+            nearest.filter(|(_, v)| (*v - value).norm() <= SAME_EIGENVALUE * value.norm())
+        else {
+            tracing::warn!(
+                "no left eigenvector of omega^2 = {value:.6e}: the transposed solve about \
+                 {target:.6e} found {} of {count} pairs, none of them it",
+                values.len()
+            );
+            continue;
+        };
+        let (re, im) = left.left_vector(i, &template)?;
+        let (_, _, xr, xi, _) = &accepted[k];
+        let residual = left_residual(stiffness, mass, value, &re, &im)?;
+        let mass_form = bilinear(mass, (&re, &im), (xr, xi))?;
+        accepted[k].4 = Some(LeftVector {
+            re,
+            im,
+            residual,
+            mass_form,
+        });
+    }
+    Ok(())
+}
+
+/// y^H A x for complex y = (yr, yi), x = (xr, xi) and a real A. Collective.
+fn bilinear<'rt>(
+    a: &Matrix<'rt>,
+    (yr, yi): (&Vector<'rt>, &Vector<'rt>),
+    (xr, xi): (&Vector<'rt>, &Vector<'rt>),
+) -> Result<Complex64, PetscError> {
+    let (mut ar, mut ai) = (xr.duplicate()?, xi.duplicate()?);
+    a.mult(xr, &mut ar)?;
+    a.mult(xi, &mut ai)?;
+    // (yr - i yi)^T (ar + i ai)
+    Ok(Complex64::new(
+        yr.dot(&ar)? + yi.dot(&ai)?,
+        yr.dot(&ai)? - yi.dot(&ar)?,
+    ))
+}
+
+/// The backward error of y as the left eigenvector of omega^2 = s: with z = conj(y),
+/// |K^T z - s M z| / (|K^T z| + |s| |M z|). Collective.
+fn left_residual<'rt>(
+    stiffness: &Matrix<'rt>,
+    mass: &Matrix<'rt>,
+    s: Complex64,
+    yr: &Vector<'rt>,
+    yi: &Vector<'rt>,
+) -> Result<f64, PetscError> {
+    // z = yr - i yi.
+    let (mut kr, mut ki) = (yr.duplicate()?, yi.duplicate()?);
+    stiffness.mult_transpose(yr, &mut kr)?;
+    stiffness.mult_transpose(yi, &mut ki)?;
+    ki.scale(-1.0)?;
+    let (mut mr, mut mi) = (yr.duplicate()?, yi.duplicate()?);
+    mass.mult(yr, &mut mr)?;
+    mass.mult(yi, &mut mi)?;
+    mi.scale(-1.0)?;
+    let k_norm = (kr.norm2()?.powi(2) + ki.norm2()?.powi(2)).sqrt();
+    let m_norm = (mr.norm2()?.powi(2) + mi.norm2()?.powi(2)).sqrt();
+    // r = K^T z - s M z, s M z = (a mr - b mi) + i (a mi + b mr).
+    let mut rr = kr.copy()?;
+    rr.axpy(-s.re, &mr)?;
+    rr.axpy(s.im, &mi)?;
+    let mut ri = ki.copy()?;
+    ri.axpy(-s.re, &mi)?;
+    ri.axpy(-s.im, &mr)?;
+    let r = (rr.norm2()?.powi(2) + ri.norm2()?.powi(2)).sqrt();
+    let scale = k_norm + s.norm() * m_norm;
+    Ok(if scale > 0.0 { r / scale } else { r })
+}
+
 /// The undamped CEA: every omega^2 whose frequency lies in [0, max_frequency_hz], each once.
 /// Collective.
 pub fn undamped<'rt>(
@@ -339,8 +511,8 @@ pub fn undamped<'rt>(
     }
     let top = (2.0 * PI * options.max_frequency_hz).powi(2);
     let (template, _) = stiffness.vectors()?;
-    // Accepted pairs: (omega^2, residual, shape re, shape im).
-    let mut accepted: Vec<(Complex64, f64, Vector<'rt>, Vector<'rt>)> = Vec::new();
+    // Accepted pairs: (omega^2, residual, shape re, shape im, left vector).
+    let mut accepted: Vec<Accepted<'rt>> = Vec::new();
     let mut targets = Vec::new();
     // Windows of shift-and-invert: around each target the `count` nearest eigenvalues are all
     // the eigenvalues of the disk reaching the farthest of them (radius r). Window k keeps
@@ -425,6 +597,7 @@ pub fn undamped<'rt>(
             hz(lower),
             started.elapsed().as_secs_f64()
         );
+        let first_accepted = accepted.len();
         for &(i, value) in &found {
             let inside = value.re >= lower && (last || value.re < upper);
             if !inside || lambda_of(value).im / (2.0 * PI) > options.max_frequency_hz {
@@ -432,7 +605,18 @@ pub fn undamped<'rt>(
             }
             let (_, mut re, mut im) = eps.pair(i, &template)?;
             normalise(&mut re, &mut im, comm)?;
-            accepted.push((value, eps.relative_error(i)?, re, im));
+            accepted.push((value, eps.relative_error(i)?, re, im, None));
+        }
+        if options.left_vectors {
+            left_vectors(
+                comm,
+                &eps,
+                (stiffness, mass),
+                target,
+                &found,
+                &mut accepted[first_accepted..],
+                options,
+            )?;
         }
         if last {
             break;
@@ -452,13 +636,14 @@ pub fn undamped<'rt>(
     let level = rigid::roundoff_level(comm, stiffness, mass)?;
     let magnitudes: Vec<f64> = accepted.iter().map(|a| a.0.norm()).collect();
     let rigid = rigid::rigid_body_flags(&magnitudes, level, options.expected_rigid_modes);
-    let mut items: Vec<(ComplexMode, Vector, Vector)> = accepted
+    let mut items: Vec<(ComplexMode, Vector, Vector, Option<LeftVector>)> = accepted
         .into_iter()
         .zip(rigid)
-        .map(|((w2, res, re, im), rigid_body)| {
+        .map(|((w2, res, re, im, left), rigid_body)| {
             let lambda = lambda_of(w2);
-            let mode = mode_from_lambda(lambda, res, options.unstable_threshold, rigid_body);
-            (mode, re, im)
+            let mut mode = mode_from_lambda(lambda, res, options.unstable_threshold, rigid_body);
+            mode.left_residual = left.as_ref().map(|l| l.residual);
+            (mode, re, im, left)
         })
         .collect();
     items.sort_by(|a, b| by_frequency(&a.0, &b.0));
@@ -466,13 +651,16 @@ pub fn undamped<'rt>(
     check_residuals(&found, options.tolerance)?;
     let mut modes = Vec::with_capacity(items.len());
     let mut shapes = Vec::with_capacity(items.len());
-    for (m, re, im) in items {
+    let mut left = Vec::with_capacity(items.len());
+    for (m, re, im, l) in items {
         modes.push(m);
         shapes.push((re, im));
+        left.push(l);
     }
     Ok(CeaResult {
         modes,
         shapes,
+        left,
         targets,
     })
 }
@@ -579,9 +767,12 @@ pub fn damped<'rt>(
             modes.push(m);
             shapes.push((re, im));
         }
+        // The quadratic problem's left vectors are not computed (see CeaOptions).
+        let left = modes.iter().map(|_| None).collect();
         return Ok(CeaResult {
             modes,
             shapes,
+            left,
             targets: vec![0.0],
         });
     }

@@ -10,6 +10,7 @@ pub mod operators;
 pub mod pencil;
 pub mod restraint;
 pub mod rigid;
+pub mod sensitivity;
 pub mod spectrum_match;
 pub mod statics;
 pub mod tracking;

@@ -79,7 +79,7 @@ pub struct EigenSummary {
 }
 
 pub struct EigenSolver<'rt> {
-    raw: sys::EPS,
+    pub(super) raw: sys::EPS,
     summary: Option<EigenSummary>,
     requested: usize,
     _rt: PhantomData<&'rt Runtime>,

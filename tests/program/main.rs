@@ -23,6 +23,7 @@ mod modes_cli;
 mod outputs_cli;
 mod reference_solutions;
 mod refusals_cli;
+mod sensitivity_cli;
 mod study_cli;
 mod superelement_sweep;
 mod sweep_cli;

@@ -11,12 +11,11 @@ use super::{
 use crate::analysis::cea::{self, CeaOptions, RayleighDamping};
 use crate::analysis::contact_edge::{self, EdgeMove};
 use crate::analysis::continuation::{self, FrictionState};
-use crate::analysis::growth;
 use crate::analysis::pencil::{self, Pencil};
 use crate::analysis::restraint::{self, Body};
+use crate::analysis::sensitivity;
 use crate::analysis::statics::{self, StaticOptions, StaticProblem};
 use crate::contact::{self, SlipHistory};
-use crate::fem::body_energy;
 use crate::fem::element::MassRule;
 use crate::mesh::Mesh;
 use crate::model::{self, Model, Operators};
@@ -31,6 +30,9 @@ use crate::study::report::collective;
 use crate::study::StudyError;
 use num_complex::Complex64;
 use std::time::Instant;
+
+mod why;
+use why::LeftShape;
 
 /// A model with its operators, ready for a sweep.
 pub struct FullModel<'rt> {
@@ -530,7 +532,16 @@ impl<'rt> FrictionModel<'rt> for FullModel<'rt> {
             self.free_mass = pencil::projected_mass(&self.operators)?;
         }
         let after = &equilibrium.slip_after;
-        let mut result = self.cea_about(comm, mu, pairs, after, u)?;
+        // Left vectors (for the sensitivities) only where the derivative is the sweep's.
+        let held = self.kept_slipping_points(pairs, &equilibrium);
+        if held > 0 && self.damping.is_none() {
+            tracing::debug!(
+                "mu {mu}: no friction sensitivities: {held} points of the kept pairs slip ({})",
+                sensitivity::HELD_SLIP
+            );
+        }
+        let sensitivities = held == 0 && self.damping.is_none();
+        let mut result = self.cea_about(comm, mu, pairs, after, u, sensitivities)?;
         let t_edge = Instant::now();
         let edge = if self.edge_points > 0 {
             let mut check = EdgeCheck {
@@ -549,7 +560,7 @@ impl<'rt> FrictionModel<'rt> for FullModel<'rt> {
                 let modes = if count == 0 {
                     result.modes.clone()
                 } else {
-                    let moved = self.cea_about(comm, mu, pairs, after, &moved)?;
+                    let moved = self.cea_about(comm, mu, pairs, after, &moved, false)?;
                     result
                         .modes
                         .iter()
@@ -571,6 +582,18 @@ impl<'rt> FrictionModel<'rt> for FullModel<'rt> {
             pencil::expand_shape(&self.operators, re)?;
             pencil::expand_shape(&self.operators, im)?;
         }
+        // The unstable modes' friction sensitivities: du/dmu once for all of them.
+        let t_rate = Instant::now();
+        let du = if result.left.iter().any(Option::is_some) {
+            self.equilibrium_rate(comm, mu, &equilibrium)
+        } else {
+            None
+        };
+        for left in result.left.iter_mut().flatten() {
+            pencil::expand_shape(&self.operators, &mut left.re)?;
+            pencil::expand_shape(&self.operators, &mut left.im)?;
+        }
+        let rate_seconds = t_rate.elapsed().as_secs_f64();
         let Operators { dofs, .. } = &self.operators;
         // The edge's CEAs are their own cost (EdgeCheck::seconds).
         let cea_seconds = t_cea.elapsed().as_secs_f64() - edge.as_ref().map_or(0.0, |c| c.seconds);
@@ -583,8 +606,13 @@ impl<'rt> FrictionModel<'rt> for FullModel<'rt> {
         let mut modes = result.modes.clone();
         // What the unstable modes' shapes say of their cause: rank 0's time, for the log.
         let mut why_seconds = 0.0;
-        for (mode, (re, im)) in modes.iter_mut().zip(&result.shapes) {
+        for ((mode, (re, im)), left) in modes.iter_mut().zip(&result.shapes).zip(&result.left) {
             let (re, im) = (re.gather_to_zero()?, im.gather_to_zero()?);
+            // The same modes have left vectors on every rank: the gathers stay collective.
+            let left = match left {
+                Some(l) => Some((l.re.gather_to_zero()?, l.im.gather_to_zero()?, l.mass_form)),
+                None => None,
+            };
             if root {
                 tracking_shapes.push(
                     self.tracked_equations
@@ -596,6 +624,15 @@ impl<'rt> FrictionModel<'rt> for FullModel<'rt> {
                     let (re, im) = (dofs.displacements(&re), dofs.displacements(&im));
                     let t_why = Instant::now();
                     let feed = self.contributions(mode, pairs, &equilibrium, &re, &im);
+                    if let (Some((yr, yi, mass_form)), Some(du)) = (left, &du) {
+                        let left = LeftShape {
+                            re: dofs.displacements(&yr),
+                            im: dofs.displacements(&yi),
+                            mass_form,
+                        };
+                        mode.sensitivity =
+                            self.friction_sensitivity(mode, mu, &equilibrium, &re, &im, &left, du);
+                    }
                     why_seconds += t_why.elapsed().as_secs_f64();
                     let re = mesh_part(re, &self.model.mesh);
                     let im = mesh_part(im, &self.model.mesh);
@@ -610,7 +647,8 @@ impl<'rt> FrictionModel<'rt> for FullModel<'rt> {
         }
         if root && why_seconds > 0.0 {
             tracing::debug!(
-                "mu {mu}: bodies' and pairs' shares of the unstable modes in {why_seconds:.3} s"
+                "mu {mu}: bodies' and pairs' shares and sensitivities of the unstable modes in \
+                 {why_seconds:.3} s, du/dmu in {rate_seconds:.3} s"
             );
         }
         // Peak resident memory so far (VmHWM), largest rank and all ranks together.
@@ -660,90 +698,6 @@ impl<'rt> FrictionModel<'rt> for FullModel<'rt> {
             tracking_shapes,
             fields,
         })
-    }
-}
-
-impl FullModel<'_> {
-    /// Each body's share of the kinetic energy of the shape (`re`, `im` on the mesh nodes).
-    pub(super) fn body_shares(
-        &self,
-        re: &[[f64; 3]],
-        im: &[[f64; 3]],
-    ) -> Option<std::collections::BTreeMap<String, f64>> {
-        let model = &self.model;
-        body_energy::mode_shares(&model.mesh, &model.point_masses, self.mass_rule, re, im)
-    }
-
-    /// What an unstable mode's shape says of its cause (`re`, `im` at every node of the
-    /// model): its bodies' shares of kinetic energy and its pairs' parts of the growth rate
-    /// ([`growth`]), at the equilibrium its CEA was made about; returns where on the pad
-    /// faces it is fed ([`UnstableShape::feed`]). A part that cannot be had is left out and
-    /// said in the log: it never fails the point.
-    fn contributions(
-        &self,
-        mode: &mut cea::ComplexMode,
-        pairs: &[contact::ContactPair],
-        equilibrium: &statics::StaticSolution,
-        re: &[[f64; 3]],
-        im: &[[f64; 3]],
-    ) -> Option<Vec<f64>> {
-        let model = &self.model;
-        let nodes = model.mesh.nodes.len();
-        let energies = match body_energy::body_kinetic_energies(
-            &model.mesh,
-            &model.point_masses,
-            self.mass_rule,
-            re,
-            im,
-        ) {
-            Ok(e) => e,
-            Err(e) => {
-                tracing::warn!(
-                    "no body shares of the mode at {:.1} Hz: {e}",
-                    mode.frequency_hz
-                );
-                return None;
-            }
-        };
-        mode.body_shares = Some(body_energy::shares(&energies));
-        // Undamped: the pairs' parts add up to the real part. With Rayleigh damping the
-        // damping's own part -x^H C x / 2m is not among them.
-        let modal_mass: f64 = energies.values().sum();
-        let omega = mode.lambda.im;
-        if modal_mass <= 0.0 || omega <= 0.0 {
-            return None;
-        }
-        match growth::point_growth_rates(
-            pairs,
-            &equilibrium.slip_after,
-            &equilibrium.displacement,
-            growth::Shape { re, im },
-            omega,
-            modal_mass,
-        ) {
-            Ok(points) => {
-                let rates = growth::pair_growth_rates(pairs, &points);
-                mode.pair_shares = Some(growth::shares(&rates));
-                mode.pair_growth = Some(rates);
-                // Spread like the contact pressure: a density on the pad face.
-                let mut feed = vec![0.0; nodes];
-                for swept in &self.spread {
-                    for (node, density) in swept.pressure(&points[swept.pair]) {
-                        if node < nodes {
-                            feed[node] = density;
-                        }
-                    }
-                }
-                Some(feed)
-            }
-            Err(e) => {
-                tracing::warn!(
-                    "no pair shares of the mode at {:.1} Hz: {e}",
-                    mode.frequency_hz
-                );
-                None
-            }
-        }
     }
 }
 
@@ -885,8 +839,13 @@ impl<'rt> FullModel<'rt> {
         pairs: &[contact::ContactPair],
         after: &SlipHistory,
         u: &[[f64; 3]],
+        left_vectors: bool,
     ) -> Result<cea::CeaResult<'rt>, StudyError> {
-        let (free_mass, damping, options) = (&self.free_mass, self.damping.as_ref(), &self.cea);
+        let options = &CeaOptions {
+            left_vectors,
+            ..self.cea.clone()
+        };
+        let (free_mass, damping) = (&self.free_mass, self.damping.as_ref());
         pencil::with_tangent(
             &mut self.operators,
             |ops, scale| {
