@@ -36,10 +36,6 @@
 //!
 //! Rayleigh damping (the quadratic problem) has no left vectors here: no sensitivity.
 
-/// Why a model whose kept pairs slip gets no sensitivity (the module doc).
-pub const HELD_SLIP: &str = "their tangent turns with their slip direction along the \
-    sweep, faster than a derivative resolves; see analysis::sensitivity";
-
 use super::growth::Shape;
 use super::statics::{self, StaticsError};
 use crate::contact::{self, ContactError, ContactPair, SlipHistory, Status};
@@ -48,6 +44,10 @@ use crate::fem::DofMap;
 use crate::petsc::{Comm, LinearMethod, LinearSolver, Matrix};
 use num_complex::Complex64;
 use std::f64::consts::PI;
+
+/// Why a model whose kept pairs slip gets no sensitivity (the module doc).
+pub const HELD_SLIP: &str = "their tangent turns with their slip direction along the \
+    sweep, faster than a derivative resolves; see analysis::sensitivity";
 
 /// The friction step of the difference quotients: far above the round-off of a contact
 /// force over its change (1e-16 / 1e-6 = 1e-10 relative), far below any step a sweep takes.
@@ -215,7 +215,7 @@ pub fn equilibrium_rate<'rt>(
     rhs.axpy(-1.0, &here)?;
     rhs.scale(-1.0 / STEP)?;
     // Collective: every rank computes the norm, rank 0 logs it.
-    let load = rhs.norm2()?;
+    let force_rate = rhs.norm2()?;
     let tangent = statics::tangent(comm, layout.stiffness, dofs, pairs, after, u)?;
     let full = match layout.constraints {
         None => {
@@ -234,7 +234,7 @@ pub fn equilibrium_rate<'rt>(
         }
     };
     let rate = full.norm2()?;
-    tracing::debug!("du/dmu: |dF_c/dmu| = {load:.3e}, |du/dmu| = {rate:.3e}");
+    tracing::debug!("du/dmu: |dF_c/dmu| = {force_rate:.3e}, |du/dmu| = {rate:.3e}");
     Ok(statics::node_displacements(&full, dofs)?)
 }
 

@@ -41,7 +41,7 @@ unsafe extern "C" fn apply_transposed(
     y: sys::PetscVec,
 ) -> sys::PetscErrorCode {
     let mut ctx: *mut c_void = std::ptr::null_mut();
-    // SAFETY: `a` is the shell made in `LeftSolver::new`, whose context is the boxed
+    // SAFETY: `a` is the shell made in `LeftSolver::solve`, whose context is the boxed
     // `Transposed` the solver owns and keeps alive while the shell exists; x and y are
     // PETSc's live vectors of the shell's layout.
     unsafe {
@@ -61,7 +61,8 @@ unsafe extern "C" fn apply_transposed(
 /// The `count` eigenpairs nearest a forward solver's target of the transposed pencil
 /// (A^T, B), solved on the forward solver's factorisation; read as left eigenvectors.
 pub struct LeftSolver<'a, 'rt> {
-    // Declared first: dropped first, before the shell it holds a reference to.
+    // Destroyed in this order by `Drop`: the EPS (it holds a reference to the shell), the
+    // shell, then the context the shell's product reads.
     eps: sys::EPS,
     shell: sys::Mat,
     _context: Box<Transposed>,
