@@ -39,18 +39,24 @@
 //! on it, and no force matching is needed: the law is the one F_nl was computed with, at the
 //! same coordinates, so R(q_s) = 0 holds as it is. The cubic law's k_l and k_nl stand for a
 //! point contact's stiffness and are refused with it.
+//!
+//! A kept pair reduced onto the boundary ([`BoundaryPair::own_law`]: the super-element's
+//! interior then holds no contact, issue 32) carries its own law the same way: its point is
+//! evaluated by [`contact::evaluate`] on its two boundary nodes with its own settings
+//! (Coulomb stick and slip, its own friction, separation), from the slip history the
+//! assembly holds ([`Assembly::with_history`]). The static's return mapping starts from that
+//! history (backward Euler, as the full model's increments) and hands the next one on
+//! ([`ReducedStatic::anchors`]); the CEA's tangent is formed from the history after the
+//! static (the committed one, as [`contact::perturbation_history`] does for the full model).
 
+pub use super::dense_cea::{dense_cea, DenseCeaOptions, DenseCeaResult};
 use super::superelement::{BoundaryPair, SuperElement};
-use crate::analysis::cea::{by_frequency, lambda_of, mode_from_lambda, CeaOptions, ComplexMode};
-use crate::analysis::rigid;
 use crate::contact::{
-    self, ContactPair, ContactPoint, PairSettings, PointContribution, PointState,
+    self, ContactPair, ContactPoint, PairSettings, PointContribution, PointState, Status,
 };
 use crate::vector3::{add, dot, scale, sub};
 use faer::linalg::solvers::Solve;
-use faer::{Mat, MatRef, Side};
-use num_complex::Complex64;
-use std::f64::consts::PI;
+use faer::Mat;
 
 /// The cubic contact law's stiffnesses (eq. 6), the same for every boundary pair.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -196,6 +202,13 @@ pub struct PairState {
     /// Normal force F(s) on the pad.
     pub force: f64,
     pub closed: bool,
+    /// Open, stick or slip (a closed swept pair slips along its sliding direction).
+    pub status: Status,
+    /// The friction force on the pad contact node.
+    pub friction_force: [f64; 3],
+    /// The slip anchor after this state (a kept Coulomb pair's; zero otherwise): the
+    /// history the next friction value starts from.
+    pub anchor: [f64; 3],
 }
 
 /// Newton settings for the reduced static.
@@ -204,6 +217,7 @@ pub struct StaticOptions {
     /// Converged when |R| <= tolerance * |load|.
     pub tolerance: f64,
     pub max_iterations: usize,
+    pub line_search: LineSearch,
 }
 
 impl Default for StaticOptions {
@@ -211,20 +225,50 @@ impl Default for StaticOptions {
         StaticOptions {
             tolerance: 1e-10,
             max_iterations: 50,
+            line_search: LineSearch::Backtracking,
         }
     }
 }
+
+/// How far along the Newton direction d a step goes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LineSearch {
+    /// Armijo backtracking on |R|: halved until |R| falls.
+    Backtracking,
+    /// The critical point of the residual's work along d, <R(q + l d), d> = 0, by secants
+    /// from l = 0 and 1, capped at the Newton step (PETSc's `cp`, the full model's first
+    /// choice, `crate::analysis::statics`). Backtracking on |R| stalls where a kept Coulomb
+    /// point sits at a kink of its law: tiny-caliper with every pair on the boundary kept
+    /// 40 % of the residual for 14 iterations from rest, an abutment point touching at a
+    /// gap of 1e-15 m, whatever the load increment.
+    CriticalPoint,
+}
+
+/// Secant steps of the critical-point line search (PETSc's `cp` takes one by default; a
+/// few more settle l where a contact changes state inside the step).
+const CRITICAL_POINT_SECANTS: usize = 3;
 
 /// A converged reduced static.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ReducedStatic {
     pub friction: f64,
     pub q: Vec<f64>,
-    /// Newton steps taken (0 when the start already satisfied the tolerance).
+    /// Newton steps taken (0 when the start already satisfied the tolerance); along a path
+    /// ([`super::dense_path`]), every step of every increment.
     pub iterations: usize,
-    /// |R| at the start and after every step.
+    /// |R| at the start and after every step (along a path: the last solve's).
     pub residual_history: Vec<f64>,
     pub pairs: Vec<PairState>,
+    /// Attempts that failed on the way and were taken again in smaller steps (a path's).
+    pub cutbacks: usize,
+}
+
+impl ReducedStatic {
+    /// The slip history after it, one anchor per boundary pair: what the next friction
+    /// value starts from and what the CEA's tangent is formed from.
+    pub fn anchors(&self) -> Vec<[f64; 3]> {
+        self.pairs.iter().map(|p| p.anchor).collect()
+    }
 }
 
 /// The assembled reduced model of one super-element with its cubic contact laws matched.
@@ -234,16 +278,49 @@ pub struct Assembly<'se> {
     laws: Vec<PairLaw>,
     /// Each boundary pair's first coordinate in q.
     offsets: Vec<usize>,
-    /// A patch-law pair's contact as the reduced-interface model has it, on local nodes 0
-    /// (c), 1 (d), 2 (r_p), 3 (r_d); `None`: a point contact with the cubic law.
-    patches: Vec<Option<ContactPair>>,
+    /// A pair evaluated by the full model's code (a patch law or a kept pair's own law) as
+    /// the reduced-interface model has it, on local nodes 0 (c), 1 (d) and, with a patch
+    /// law, 2 (r_p), 3 (r_d); `None`: a point contact with the cubic law.
+    locals: Vec<Option<ContactPair>>,
     /// Where each patch-law pair's tilt nodes are in q (its own after c and d, or the pair's
     /// it reads, [`super::superelement::BoundaryTilt::shared`]).
     tilt_offsets: Vec<Option<usize>>,
+    /// The committed slip history, one anchor per boundary pair (zero: no slip yet; only a
+    /// kept Coulomb pair's is ever anything else).
+    history: Vec<[f64; 3]>,
 }
 
-/// The local contact pair of a boundary pair with a patch law (see [`Assembly::patches`]).
-fn patch_pair(pair: &BoundaryPair) -> Result<Option<ContactPair>, String> {
+/// The local contact pair of a boundary pair evaluated by the full model's code (see
+/// [`Assembly::locals`]): a patch law (swept, steady sliding along its own tangent) or a
+/// kept pair's own law.
+fn local_pair(pair: &BoundaryPair) -> Result<Option<ContactPair>, String> {
+    if pair.tilt.is_some() && pair.own_law.is_some() {
+        return Err(
+            "a kept pair's own law with a patch law: patch laws are made for the swept \
+             (steady-sliding) pairs only"
+                .into(),
+        );
+    }
+    if let Some(own) = &pair.own_law {
+        let point = ContactPoint {
+            slave: vec![(0, 1.0)],
+            master: vec![(1, 1.0)],
+            normal: pair.normal,
+            initial_gap: pair.initial_gap,
+            area: pair.area,
+            tangent: pair.sliding,
+            position: pair.pad_position,
+            slave_node: 0,
+            master_face: None,
+            tilt: None,
+        };
+        let mut settings = own.clone();
+        // The penalty in use is the boundary pair's (the model's resolved one).
+        settings.penalty = Some(pair.penalty);
+        return contact::node_to_node(settings, pair.penalty, vec![point])
+            .map(Some)
+            .map_err(|e| e.to_string());
+    }
     let Some(tilt) = &pair.tilt else {
         return Ok(None);
     };
@@ -325,14 +402,15 @@ impl<'se> Assembly<'se> {
         let offsets = se.boundary_offsets();
         let tilt_offsets = se.header.tilt_offsets();
         let mut laws = Vec::with_capacity(se.header.boundary.len());
-        let mut patches = Vec::with_capacity(se.header.boundary.len());
+        let mut locals = Vec::with_capacity(se.header.boundary.len());
         for (index, pair) in se.header.boundary.iter().enumerate() {
             let invalid = |why: String| AssemblyError::InvalidPair {
                 index,
                 pair: pair.pair.clone(),
                 why,
             };
-            let patch = patch_pair(pair).map_err(&invalid)?;
+            let local = local_pair(pair).map_err(&invalid)?;
+            let patch = local.as_ref().filter(|_| pair.tilt.is_some());
             if patch.is_some() && tilt_offsets[index].is_none() {
                 return Err(invalid(
                     "it reads the tilt nodes of a pair that has none of its own".into(),
@@ -346,17 +424,32 @@ impl<'se> Assembly<'se> {
                     pair.pair
                 )));
             }
-            let k_linear = contact.k_linear.unwrap_or(pair.penalty * pair.area);
+            let natural = pair.penalty * pair.area;
+            let k_linear = match pair.own_law {
+                // The cubic law is the swept pairs' alone.
+                Some(_) => natural,
+                None => contact.k_linear.unwrap_or(natural),
+            };
             if !(k_linear > 0.0 && k_linear.is_finite()) {
                 return Err(invalid(format!("k_l = {k_linear} must be finite and > 0")));
             }
-            let natural = pair.penalty * pair.area;
             if !k_linear_resolved(k_linear, natural) {
                 return Err(invalid(format!(
                     "k_l = {k_linear:e} N/m is {:.1e} times the contact's penalty x area \
                      ({natural:.3e} N/m), beyond the 1/eps ratio double precision resolves",
                     k_linear / natural
                 )));
+            }
+            if local.is_some() && pair.tilt.is_none() {
+                // A kept pair's own law: the reduced-interface model's, no offset to match.
+                laws.push(PairLaw {
+                    k_linear: natural,
+                    k_cubic: 0.0,
+                    offset: 0.0,
+                    separation: pair.separation,
+                });
+                locals.push(local);
+                continue;
             }
             let f = pair.normal_force;
             if !f.is_finite() || (pair.separation && f < 0.0) {
@@ -370,7 +463,7 @@ impl<'se> Assembly<'se> {
                 return Err(invalid("non-finite gap at the equilibrium".into()));
             }
             // A patch law is the reduced-interface model's own: no offset to match.
-            let s = if patch.is_some() {
+            let s = if local.is_some() {
                 d
             } else if pair.separation && f == 0.0 {
                 d.min(0.0)
@@ -383,14 +476,15 @@ impl<'se> Assembly<'se> {
                 offset: s - d,
                 separation: pair.separation,
             });
-            patches.push(patch);
+            locals.push(local);
         }
         let assembly = Assembly {
             se,
             laws,
             offsets,
-            patches,
+            locals,
             tilt_offsets,
+            history: vec![[0.0; 3]; se.header.boundary.len()],
         };
         let mismatch = assembly.force_mismatch();
         if mismatch > 1e-12 {
@@ -408,7 +502,7 @@ impl<'se> Assembly<'se> {
     /// F_nl (absolute, in N, for pairs with F_nl = 0): round-off, and checked to be at most
     /// 1e-12 by the tests.
     pub fn force_mismatch(&self) -> f64 {
-        self.pair_states(&self.se.equilibrium)
+        self.pair_states(&self.se.equilibrium, self.se.header.friction)
             .iter()
             .zip(&self.se.header.boundary)
             .map(|(state, pair)| {
@@ -434,61 +528,115 @@ impl<'se> Assembly<'se> {
         geometric_approach(&self.se.header.boundary[k], &q[at..at + 6]) + self.laws[k].offset
     }
 
-    /// A patch-law pair's state and, when closed, its contribution on its 12 coordinates,
-    /// by the full model's code; `None` for a point contact.
-    fn patch_law(
+    /// Sets the committed slip history (one anchor per boundary pair, as
+    /// [`ReducedStatic::anchors`] gives it): the return mapping of a kept Coulomb pair
+    /// starts from it.
+    pub fn with_history(mut self, anchors: Vec<[f64; 3]>) -> Result<Self, AssemblyError> {
+        if anchors.len() != self.laws.len() {
+            return Err(AssemblyError::Inconsistent(format!(
+                "a slip history of {} anchors for {} boundary pairs",
+                anchors.len(),
+                self.laws.len()
+            )));
+        }
+        self.history = anchors;
+        Ok(self)
+    }
+
+    /// The committed slip history.
+    pub fn history(&self) -> &[[f64; 3]] {
+        &self.history
+    }
+
+    /// A pair evaluated by the full model's code (patch law or own law): its state and, when
+    /// closed, its contribution on its local coordinates ([`Self::local_coordinates`]);
+    /// `None` for a point contact with the cubic law. A swept pair takes the sweep's
+    /// `friction`, a kept pair its own.
+    fn local_law(
         &self,
         k: usize,
         q: &[f64],
         friction: f64,
+        anchor: [f64; 3],
     ) -> Option<(PointState, Option<PointContribution>)> {
-        let local = self.patches[k].as_ref()?;
+        let local = self.locals[k].as_ref()?;
         let at = self.local_coordinates(k);
-        let u: Vec<[f64; 3]> = (0..4)
-            .map(|n| [0, 1, 2].map(|i| q[at[3 * n + i]]))
-            .collect();
-        let mut pair = local.clone();
-        pair.settings.friction = friction;
+        let u: Vec<[f64; 3]> = at.chunks(3).map(|c| [q[c[0]], q[c[1]], q[c[2]]]).collect();
+        let swept = self.se.header.boundary[k].swept();
+        let evaluated = if swept {
+            let mut pair = local.clone();
+            pair.settings.friction = friction;
+            contact::evaluate(&pair, &pair.points[0], anchor, &u)
+        } else {
+            contact::evaluate(local, &local.points[0], anchor, &u)
+        };
         // Not `.ok()`: a `None` here would read as a point contact and take the cubic law.
-        let evaluated = contact::evaluate(&pair, &pair.points[0], [0.0; 3], &u)
-            .expect("a patch pair's local nodes are 0..4 and u holds four");
-        Some(evaluated)
+        Some(evaluated.expect("a local pair's nodes are 0..u.len()"))
     }
 
-    /// Where a patch-law pair's 12 local coordinates (c, d, r_p, r_d) are in q.
-    fn local_coordinates(&self, k: usize) -> [usize; 12] {
-        let (at, tilt) = (
-            self.offsets[k],
-            self.tilt_offsets[k].unwrap_or(self.offsets[k] + 6),
-        );
-        std::array::from_fn(|i| if i < 6 { at + i } else { tilt + i - 6 })
+    /// Where a locally evaluated pair's coordinates are in q: c and d, then a patch law's
+    /// tilt nodes r_p, r_d (its own after c and d, or the pair's it reads).
+    fn local_coordinates(&self, k: usize) -> Vec<usize> {
+        let at = self.offsets[k];
+        let mut coordinates: Vec<usize> = (at..at + 6).collect();
+        if self.se.header.boundary[k].tilt.is_some() {
+            let tilt = self.tilt_offsets[k].unwrap_or(at + 6);
+            coordinates.extend(tilt..tilt + 6);
+        }
+        coordinates
     }
 
-    /// Every pair's state for q.
-    pub fn pair_states(&self, q: &[f64]) -> Vec<PairState> {
+    /// Every pair's state for q at friction `friction` (from the committed history).
+    pub fn pair_states(&self, q: &[f64], friction: f64) -> Vec<PairState> {
+        self.pair_states_from(q, friction, &self.history)
+    }
+
+    fn pair_states_from(&self, q: &[f64], friction: f64, history: &[[f64; 3]]) -> Vec<PairState> {
         (0..self.laws.len())
-            .map(|k| match self.patch_law(k, q, 0.0) {
+            .map(|k| match self.local_law(k, q, friction, history[k]) {
                 Some((state, _)) => PairState {
                     approach: -state.gap,
                     force: state.normal_force,
                     closed: state.closed,
+                    status: state.status,
+                    friction_force: state.friction_force,
+                    anchor: state.anchor,
                 },
                 None => {
                     let (s, law) = (self.approach(k, q), &self.laws[k]);
+                    let force = law.force(s);
+                    let closed = law.closed(s);
+                    let sliding = self.se.header.boundary[k].sliding;
                     PairState {
                         approach: s,
-                        force: law.force(s),
-                        closed: law.closed(s),
+                        force,
+                        closed,
+                        status: if closed { Status::Slip } else { Status::Open },
+                        friction_force: sliding
+                            .map(|t| scale(friction * force, t))
+                            .unwrap_or_default(),
+                        anchor: [0.0; 3],
                     }
                 }
             })
             .collect()
     }
 
-    /// R(q) = K_r q + F_c(q; mu) - load (see the module doc).
+    /// R(q) = K_r q + F_c(q; mu) - load (see the module doc), from the committed history.
     pub fn residual(&self, q: &[f64], friction: f64) -> Vec<f64> {
+        self.residual_from(q, friction, 1.0, &self.history)
+    }
+
+    /// R(q) = K_r q + F_c(q; mu) - factor load, the return mapping from `history`.
+    fn residual_from(
+        &self,
+        q: &[f64],
+        friction: f64,
+        factor: f64,
+        history: &[[f64; 3]],
+    ) -> Vec<f64> {
         let k = &self.se.stiffness;
-        let mut r: Vec<f64> = self.se.load.iter().map(|f| -f).collect();
+        let mut r: Vec<f64> = self.se.load.iter().map(|f| -factor * f).collect();
         for (j, &qj) in q.iter().enumerate() {
             if qj != 0.0 {
                 for (i, ri) in r.iter_mut().enumerate() {
@@ -498,7 +646,7 @@ impl<'se> Assembly<'se> {
         }
         for (k, law) in self.laws.iter().enumerate() {
             let at = self.offsets[k];
-            if let Some((_, contribution)) = self.patch_law(k, q, friction) {
+            if let Some((_, contribution)) = self.local_law(k, q, friction, history[k]) {
                 if let Some(c) = contribution {
                     for (&i, ci) in self.local_coordinates(k).iter().zip(&c.residual) {
                         r[i] += ci;
@@ -518,18 +666,24 @@ impl<'se> Assembly<'se> {
         r
     }
 
-    /// dR/dq: K_r plus, per closed pair, c_a c_b F'(s) (n + mu t) n^T (a patch law's:
-    /// [`contact::evaluate`]'s 12 x 12 block).
+    /// dR/dq: K_r plus, per closed pair, c_a c_b F'(s) (n + mu t) n^T (a locally evaluated
+    /// pair's: [`contact::evaluate`]'s block), from the committed history: the CEA's
+    /// tangent once the history is the static's ([`Self::with_history`]).
     pub fn jacobian(&self, q: &[f64], friction: f64) -> Mat<f64> {
+        self.jacobian_from(q, friction, &self.history)
+    }
+
+    fn jacobian_from(&self, q: &[f64], friction: f64, history: &[[f64; 3]]) -> Mat<f64> {
         let mut j = self.se.stiffness.clone();
         for (k, law) in self.laws.iter().enumerate() {
             let at = self.offsets[k];
-            if let Some((_, contribution)) = self.patch_law(k, q, friction) {
+            if let Some((_, contribution)) = self.local_law(k, q, friction, history[k]) {
                 if let Some(c) = contribution {
                     let local = self.local_coordinates(k);
+                    let width = local.len();
                     for (r, &row) in local.iter().enumerate() {
                         for (col, &column) in local.iter().enumerate() {
-                            j[(row, column)] += c.jacobian[r * 12 + col];
+                            j[(row, column)] += c.jacobian[r * width + col];
                         }
                     }
                 }
@@ -576,11 +730,25 @@ impl<'se> Assembly<'se> {
         self.solve_static_from(&self.se.equilibrium, friction, options)
     }
 
-    /// [`Assembly::solve_static`] from another start (a neighbouring sweep point's q).
+    /// [`Assembly::solve_static`] from another start (a neighbouring sweep point's q), the
+    /// return mapping from the committed history.
     pub fn solve_static_from(
         &self,
         start: &[f64],
         friction: f64,
+        options: &StaticOptions,
+    ) -> Result<ReducedStatic, AssemblyError> {
+        self.newton(start, friction, 1.0, &self.history, options)
+    }
+
+    /// Newton on R(q) = K_r q + F_c(q) - factor load from `start`, the return mapping of
+    /// the kept Coulomb pairs from `history` (backward Euler: one increment).
+    pub(super) fn newton(
+        &self,
+        start: &[f64],
+        friction: f64,
+        factor: f64,
+        history: &[[f64; 3]],
         options: &StaticOptions,
     ) -> Result<ReducedStatic, AssemblyError> {
         if start.len() != self.se.header.size {
@@ -590,15 +758,23 @@ impl<'se> Assembly<'se> {
                 self.se.header.size
             )));
         }
+        if history.len() != self.laws.len() {
+            return Err(AssemblyError::Inconsistent(format!(
+                "a slip history of {} anchors for {} boundary pairs",
+                history.len(),
+                self.laws.len()
+            )));
+        }
+        let residual = |q: &[f64]| self.residual_from(q, friction, factor, history);
         let mut q = start.to_vec();
-        let mut r = self.residual(&q, friction);
+        let mut r = residual(&q);
         let mut norm = norm2(&r);
-        let reference = match norm2(&self.se.load) {
+        let reference = match factor * norm2(&self.se.load) {
             l if l > 0.0 => l,
-            _ => norm2(&self.residual(&q, friction)).max(f64::MIN_POSITIVE),
+            _ => norm.max(f64::MIN_POSITIVE),
         };
         let tolerance = options.tolerance * reference;
-        let mut history = vec![norm];
+        let mut history_of_norms = vec![norm];
         let mut iterations = 0;
         while norm > tolerance {
             if iterations >= options.max_iterations {
@@ -606,10 +782,10 @@ impl<'se> Assembly<'se> {
                     friction,
                     iterations,
                     tolerance,
-                    history,
+                    history: history_of_norms,
                 });
             }
-            let jac = self.jacobian(&q, friction);
+            let jac = self.jacobian_from(&q, friction, history);
             let mut step = Mat::from_fn(q.len(), 1, |i, _| -r[i]);
             jac.partial_piv_lu().solve_in_place(step.as_mut());
             if (0..q.len()).any(|i| !step[(i, 0)].is_finite()) {
@@ -619,13 +795,27 @@ impl<'se> Assembly<'se> {
                 });
             }
             iterations += 1;
+            if options.line_search == LineSearch::CriticalPoint {
+                let d: Vec<f64> = (0..q.len()).map(|i| step[(i, 0)]).collect();
+                let l = critical_point(&q, &d, &r, &residual);
+                q = (0..q.len()).map(|i| q[i] + l * d[i]).collect();
+                r = residual(&q);
+                let previous = norm;
+                norm = norm2(&r);
+                history_of_norms.push(norm);
+                // As below: no decrease at the round-off floor is convergence.
+                if norm >= previous && norm <= 1e-8 * reference {
+                    break;
+                }
+                continue;
+            }
             // Armijo backtracking on |R|: the Newton step is a descent direction wherever
             // R is smooth; halving copes with a pair changing state inside the step.
             let mut alpha = 1.0;
             let mut accepted = None;
             for _ in 0..30 {
                 let trial: Vec<f64> = (0..q.len()).map(|i| q[i] + alpha * step[(i, 0)]).collect();
-                let rt = self.residual(&trial, friction);
+                let rt = residual(&trial);
                 let nt = norm2(&rt);
                 if nt <= (1.0 - 1e-4 * alpha) * norm {
                     accepted = Some((trial, rt, nt));
@@ -638,7 +828,7 @@ impl<'se> Assembly<'se> {
                     q = trial;
                     r = rt;
                     norm = nt;
-                    history.push(norm);
+                    history_of_norms.push(norm);
                 }
                 None => {
                     // No decrease: the round-off floor, accepted well below any physical
@@ -650,18 +840,19 @@ impl<'se> Assembly<'se> {
                         friction,
                         iterations,
                         tolerance,
-                        history,
+                        history: history_of_norms,
                     });
                 }
             }
         }
-        let pairs = self.pair_states(&q);
+        let pairs = self.pair_states_from(&q, friction, history);
         Ok(ReducedStatic {
             friction,
             q,
             iterations,
-            residual_history: history,
+            residual_history: history_of_norms,
             pairs,
+            cutbacks: 0,
         })
     }
 
@@ -680,6 +871,41 @@ impl<'se> Assembly<'se> {
     }
 }
 
+/// The step length l along d where <R(q + l d), d> = 0 ([`LineSearch::CriticalPoint`]):
+/// secants from (0, <R(q), d>) and (1, <R(q + d), d>), each new l kept in (0, 1]; the
+/// Newton step itself (l = 1) when the secant has no root there.
+fn critical_point(q: &[f64], d: &[f64], r: &[f64], residual: &impl Fn(&[f64]) -> Vec<f64>) -> f64 {
+    let work = |l: f64| {
+        let trial: Vec<f64> = q.iter().zip(d).map(|(a, b)| a + l * b).collect();
+        residual(&trial)
+            .iter()
+            .zip(d)
+            .map(|(a, b)| a * b)
+            .sum::<f64>()
+    };
+    let dot0: f64 = r.iter().zip(d).map(|(a, b)| a * b).sum();
+    let (mut l0, mut w0) = (0.0, dot0);
+    let (mut l1, mut w1) = (1.0, work(1.0));
+    for _ in 0..CRITICAL_POINT_SECANTS {
+        if w1 == w0 {
+            break;
+        }
+        let l2 = l1 - w1 * (l1 - l0) / (w1 - w0);
+        if !(l2.is_finite() && l2 > 0.0) {
+            break;
+        }
+        let l2 = l2.min(1.0);
+        if (l2 - l1).abs() <= 1e-3 * l1 {
+            l1 = l2;
+            break;
+        }
+        (l0, w0) = (l1, w1);
+        l1 = l2;
+        w1 = work(l1);
+    }
+    l1
+}
+
 /// d = -(g0 + n . (u_pad - u_disc)) for a pair's six coordinates.
 fn geometric_approach(pair: &BoundaryPair, q: &[f64]) -> f64 {
     let pad = [q[0], q[1], q[2]];
@@ -687,174 +913,14 @@ fn geometric_approach(pair: &BoundaryPair, q: &[f64]) -> f64 {
     -(pair.initial_gap + dot(pair.normal, sub(pad, disc)))
 }
 
-/// Settings of the dense CEA.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct DenseCeaOptions {
-    /// Modes from 0 Hz up to this frequency.
-    pub max_frequency_hz: f64,
-    /// As [`CeaOptions::unstable_threshold`] (the same default).
-    pub unstable_threshold: f64,
-    /// As [`CeaOptions::expected_rigid_modes`]: `Some(0)` after a static solve, which
-    /// converges only on a regular Jacobian, so no body is free.
-    pub expected_rigid_modes: Option<usize>,
-}
-
-impl Default for DenseCeaOptions {
-    fn default() -> Self {
-        let sparse = CeaOptions::default();
-        DenseCeaOptions {
-            max_frequency_hz: sparse.max_frequency_hz,
-            unstable_threshold: sparse.unstable_threshold,
-            expected_rigid_modes: sparse.expected_rigid_modes,
-        }
-    }
-}
-
-/// The modes of the band and their shapes in q, sorted by [`by_frequency`].
-#[derive(Clone, Debug)]
-pub struct DenseCeaResult {
-    pub modes: Vec<ComplexMode>,
-    /// One per mode, in q (expand with u = T q), the largest component scaled to 1 + 0i.
-    pub shapes: Vec<Vec<Complex64>>,
-}
-
-/// The undamped CEA of (K, M) on dense matrices, K unsymmetric, M symmetric positive
-/// definite: M = L L^T, the standard problem A y = omega^2 y with A = L^-1 K L^-T (faer's
-/// dense non-symmetric eigensolver), then x = L^-T y. (The QZ path, `generalized_eigen`, is
-/// minutes at n ~ 1000, see TOOLCHAIN.md.) Modes are classified exactly as the sparse CEA
-/// classifies its own ([`mode_from_lambda`], rigid-body flags from [`rigid`]). Each mode's
-/// residual is |K x - omega^2 M x| / ((|K|_F + |omega^2| |M|_F) |x|), a backward error.
-pub fn dense_cea(
-    stiffness: MatRef<'_, f64>,
-    mass: MatRef<'_, f64>,
-    options: &DenseCeaOptions,
-) -> Result<DenseCeaResult, AssemblyError> {
-    let n = stiffness.nrows();
-    if stiffness.ncols() != n || mass.nrows() != n || mass.ncols() != n {
-        return Err(AssemblyError::Inconsistent(format!(
-            "K is {}x{}, M is {}x{}",
-            stiffness.nrows(),
-            stiffness.ncols(),
-            mass.nrows(),
-            mass.ncols()
-        )));
-    }
-    if options.max_frequency_hz.is_nan() || options.max_frequency_hz <= 0.0 {
-        return Err(AssemblyError::Inconsistent(format!(
-            "the band must be positive, got {} Hz",
-            options.max_frequency_hz
-        )));
-    }
-    // Say which matrix holds what no eigensolver can use, where faer said `NoConvergence`.
-    for (name, m) in [("stiffness", stiffness), ("mass", mass)] {
-        if let Some((i, j)) = (0..n)
-            .flat_map(|i| (0..n).map(move |j| (i, j)))
-            .find(|&(i, j)| !m[(i, j)].is_finite())
-        {
-            return Err(AssemblyError::Eigen(format!(
-                "the reduced {name} matrix holds {} at ({i}, {j}): a NaN or infinite value in \
-                 the super-element or the contact law's stiffnesses",
-                m[(i, j)]
-            )));
-        }
-    }
-    let llt = mass
-        .llt(Side::Lower)
-        .map_err(|_| AssemblyError::MassNotPositiveDefinite)?;
-    let l = llt.L();
-    // A = L^-1 K L^-T: X = L^-1 K, then A^T = L^-1 X^T.
-    let mut x = stiffness.to_owned();
-    l.solve_lower_triangular_in_place(x.as_mut());
-    let mut at = x.transpose().to_owned();
-    l.solve_lower_triangular_in_place(at.as_mut());
-    let a = at.transpose().to_owned();
-    let evd = a.eigen().map_err(|e| {
-        let span = (0..n)
-            .flat_map(|i| (0..n).map(move |j| (i, j)))
-            .map(|(i, j)| stiffness[(i, j)].abs())
-            .filter(|v| *v > 0.0)
-            .fold((f64::INFINITY, 0.0f64), |(lo, hi), v| {
-                (lo.min(v), hi.max(v))
-            });
-        AssemblyError::Eigen(format!(
-            "no convergence ({e:?}) on the reduced model of size {n}, whose stiffness entries \
-             span {:.3e} to {:.3e}: a contact stiffness (k_linear, k_cubic) far out of scale \
-             with the super-element's?",
-            span.0, span.1
-        ))
-    })?;
-    let values = evd.S().column_vector();
-    let vectors = evd.U();
-    let kept: Vec<usize> = (0..n)
-        .filter(|&j| {
-            let f = lambda_of(values[j]).im / (2.0 * PI);
-            f.is_finite() && f <= options.max_frequency_hz
-        })
-        .collect();
-    let m = kept.len();
-    // x = L^-T y, real and imaginary parts apart (L is real).
-    let mut xr = Mat::from_fn(n, m, |i, c| vectors[(i, kept[c])].re);
-    let mut xi = Mat::from_fn(n, m, |i, c| vectors[(i, kept[c])].im);
-    l.transpose().solve_upper_triangular_in_place(xr.as_mut());
-    l.transpose().solve_upper_triangular_in_place(xi.as_mut());
-    let (kr, ki) = (stiffness * &xr, stiffness * &xi);
-    let (mr, mi) = (mass * &xr, mass * &xi);
-    let frobenius = |a: MatRef<'_, f64>| {
-        let mut s = 0.0;
-        for j in 0..a.ncols() {
-            for i in 0..a.nrows() {
-                s += a[(i, j)] * a[(i, j)];
-            }
-        }
-        s.sqrt()
-    };
-    let (k_norm, m_norm) = (frobenius(stiffness), frobenius(mass));
-    let level =
-        rigid::ROUNDOFF * rigid::local_reference((0..n).map(|i| (stiffness[(i, i)], mass[(i, i)])));
-    let magnitudes: Vec<f64> = kept.iter().map(|&j| values[j].norm()).collect();
-    let rigid_flags = rigid::rigid_body_flags(&magnitudes, level, options.expected_rigid_modes);
-    let mut found: Vec<(ComplexMode, Vec<Complex64>)> = Vec::with_capacity(m);
-    for (c, &j) in kept.iter().enumerate() {
-        let w2 = values[j];
-        let mut residual2 = 0.0;
-        let mut x2 = 0.0;
-        let mut shape = Vec::with_capacity(n);
-        for i in 0..n {
-            let xv = Complex64::new(xr[(i, c)], xi[(i, c)]);
-            let r = Complex64::new(kr[(i, c)], ki[(i, c)])
-                - w2 * Complex64::new(mr[(i, c)], mi[(i, c)]);
-            residual2 += r.norm_sqr();
-            x2 += xv.norm_sqr();
-            shape.push(xv);
-        }
-        let residual = residual2.sqrt() / ((k_norm + w2.norm() * m_norm) * x2.sqrt());
-        let biggest = shape
-            .iter()
-            .copied()
-            .max_by(|a, b| a.norm_sqr().total_cmp(&b.norm_sqr()))
-            .unwrap_or(Complex64::new(1.0, 0.0));
-        if biggest.norm() > 0.0 {
-            let s = biggest.inv();
-            shape.iter_mut().for_each(|v| *v *= s);
-        }
-        let mode = mode_from_lambda(
-            lambda_of(w2),
-            residual,
-            options.unstable_threshold,
-            rigid_flags[c],
-        );
-        found.push((mode, shape));
-    }
-    found.sort_by(|a, b| by_frequency(&a.0, &b.0));
-    let (modes, shapes) = found.into_iter().unzip();
-    Ok(DenseCeaResult { modes, shapes })
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::analysis::cea::{by_frequency, lambda_of};
     use crate::contact::{self, ContactPoint, PairSettings, SlidingDirection};
     use crate::reduce::superelement::{BoundaryTilt, SuperElementHeader};
+    use num_complex::Complex64;
+    use std::f64::consts::PI;
 
     /// Deterministic numbers in [-1, 1).
     struct Lcg(u64);
@@ -980,6 +1046,7 @@ mod tests {
                 separation,
                 normal_force: 0.0,
                 tilt: None,
+                own_law: None,
             });
         }
         let other = vec![(
@@ -1078,7 +1145,7 @@ mod tests {
         );
         for contact in [CubicContact::default(), strong_cubic(&se)] {
             let asm = Assembly::new(&se, &contact).unwrap();
-            let states = asm.pair_states(&se.equilibrium);
+            let states = asm.pair_states(&se.equilibrium, MU_SE);
             for (k, (state, f)) in states.iter().zip(&forces).enumerate() {
                 assert!(
                     (state.force - f).abs() <= 1e-12 * f.abs(),
@@ -1170,6 +1237,126 @@ mod tests {
         assert!((j[(0, 2)] - j[(2, 0)]).abs() > 1e-3 * biggest);
     }
 
+    /// The synthetic super-element with its closed pair 0 a kept Coulomb pair on the
+    /// boundary (its own mu 0.3, the default stick stiffness: k_n / 100).
+    fn synthetic_kept_coulomb() -> SuperElement {
+        let mut se = synthetic();
+        let b = &mut se.header.boundary[0];
+        b.sliding = None;
+        b.pair = "piston/pad".into();
+        b.own_law = Some(PairSettings {
+            name: "piston/pad".into(),
+            friction: 0.3,
+            penalty: None,
+            separation: true,
+            sliding: SlidingDirection::None,
+            law: contact::FrictionLaw::Coulomb {
+                stick_stiffness: None,
+            },
+            calculix: None,
+        });
+        se
+    }
+
+    /// Central differences of R against the analytic Jacobian, both from `asm`'s history.
+    fn jacobian_error(asm: &Assembly<'_>, q: &[f64], mu: f64) -> (f64, f64) {
+        let j = asm.jacobian(q, mu);
+        let h = 1e-12;
+        let (mut worst, mut biggest): (f64, f64) = (0.0, 0.0);
+        for c in 0..q.len() {
+            let (mut qp, mut qm) = (q.to_vec(), q.to_vec());
+            qp[c] += h;
+            qm[c] -= h;
+            let (rp, rm) = (asm.residual(&qp, mu), asm.residual(&qm, mu));
+            for i in 0..q.len() {
+                let fd = (rp[i] - rm[i]) / (2.0 * h);
+                worst = worst.max((fd - j[(i, c)]).abs());
+                biggest = biggest.max(j[(i, c)].abs());
+            }
+        }
+        (worst, biggest)
+    }
+
+    #[test]
+    fn a_kept_coulomb_pair_on_the_boundary_sticks_and_slips_by_its_own_law() {
+        // Pair 0 is closed at q_s by 3 micrometres: p = k_n A 3e-6 = 300 N, mu p = 90 N;
+        // its stick spring k_t A = 1e6 N/m against a tangential motion of ~1e-6 m holds it
+        // (|f_trial| ~ 1 N) from a zero anchor, and a 1 mm anchor makes it slip (1e3 N).
+        let se = synthetic_kept_coulomb();
+        let q = se.equilibrium.clone();
+        let rel = sub([q[0], q[1], q[2]], [q[3], q[4], q[5]]);
+        let n = se.header.boundary[0].normal;
+        let tangential = sub(rel, scale(dot(n, rel), n));
+        let far = add(tangential, [1e-3, 0.0, 0.0]);
+        for (anchor, status) in [([0.0; 3], Status::Stick), (far, Status::Slip)] {
+            let mut history = vec![[0.0; 3]; 3];
+            history[0] = anchor;
+            let asm = Assembly::new(&se, &CubicContact::default())
+                .unwrap()
+                .with_history(history)
+                .unwrap();
+            for mu in [0.2, 0.8] {
+                let state = asm.pair_states(&q, mu)[0];
+                assert_eq!(state.status, status);
+                let f = crate::vector3::norm(state.friction_force);
+                // Its own mu, whatever the sweep's: on the cone when slipping.
+                if status == Status::Slip {
+                    assert!((f - 0.3 * state.force).abs() <= 1e-12 * f, "{f} {state:?}");
+                } else {
+                    assert!(f < 0.3 * state.force, "{f} {state:?}");
+                }
+                // Same truncation and round-off argument as the test above.
+                let (worst, biggest) = jacobian_error(&asm, &q, mu);
+                assert!(
+                    worst <= 1e-6 * biggest,
+                    "{status:?}: worst {worst:e} of {biggest:e}"
+                );
+            }
+        }
+        // The sweep's friction does not reach it: its residual rows are the same at any mu.
+        let asm = Assembly::new(&se, &CubicContact::default()).unwrap();
+        let (a, b) = (asm.residual(&q, 0.2), asm.residual(&q, 0.8));
+        assert_eq!(a[..6], b[..6]);
+    }
+
+    #[test]
+    fn the_dense_path_ramps_from_rest_and_carries_the_history() {
+        let se = synthetic_kept_coulomb();
+        let asm = Assembly::new(&se, &CubicContact::default()).unwrap();
+        let load = norm2(&se.load);
+        let rest = vec![0.0; se.header.size];
+        let first = asm
+            .static_from_rest(&rest, 0.4, 4, 3, &StaticOptions::default())
+            .unwrap();
+        assert_eq!(first.cutbacks, 0);
+        // The last increment's equilibrium, from the history the ones before committed.
+        let next = crate::reduce::dense_path::DenseState::after(&first);
+        let second = asm
+            .static_from_previous(&next, 0.6, &StaticOptions::default())
+            .unwrap();
+        for (st, mu, from) in [(&first, 0.4, None), (&second, 0.6, Some(&next))] {
+            // Re-evaluated from the history it was solved from, R vanishes: the start
+            // history of the second is the first's after-history.
+            if let Some(from) = from {
+                let asm = asm.clone().with_history(from.anchors.clone()).unwrap();
+                let r = norm2(&asm.residual(&st.q, mu));
+                assert!(r <= 1e-10 * load, "mu {mu}: |R| {r:e}");
+            }
+            let kept = st.pairs[0];
+            assert!(kept.closed);
+            let f = crate::vector3::norm(kept.friction_force);
+            assert!(f <= 0.3 * kept.force * (1.0 + 1e-12), "{kept:?}");
+        }
+        // From the after-history at its own q, the kept point keeps its state (a slipping
+        // one stays on the cone: the CEA's tangent is the committed one's).
+        let asm2 = asm.clone().with_history(second.anchors()).unwrap();
+        assert_eq!(
+            asm2.pair_states(&second.q, 0.6)[0].status,
+            second.pairs[0].status
+        );
+        assert!(asm.clone().with_history(vec![[0.0; 3]; 2]).is_err());
+    }
+
     /// A point contact (6 coordinates) then a patch-law pair (12: c, d, r_p, r_d), 2 modes +
     /// the static correction: size 21. The patch (4 x 4 quadrature points over 1 cm^2) is
     /// pressed 1e-6 m at its centre and tilted 5e-4 rad along e_1, so that its points at
@@ -1206,6 +1393,7 @@ mod tests {
                 separation: true,
                 normal_force: 0.0,
                 tilt,
+                own_law: None,
             }
         };
         let boundary = vec![
@@ -1227,7 +1415,7 @@ mod tests {
         se.header.boundary[0].normal_force = 1e12 * 1e-4 * 2e-6;
         let unloaded = se.clone();
         let asm = Assembly::new(&unloaded, &CubicContact::default()).unwrap();
-        se.header.boundary[1].normal_force = asm.pair_states(&unloaded.equilibrium)[1].force;
+        se.header.boundary[1].normal_force = asm.pair_states(&unloaded.equilibrium, MU_SE)[1].force;
         se.load = asm.residual(&unloaded.equilibrium, MU_SE);
         se
     }
@@ -1242,7 +1430,7 @@ mod tests {
         // -1e-6 + 5e-4 * 3.75e-3 > 0 on the column xi_1 = +3.75 mm, which is open; the other three columns carry
         // k a (0.375 + 1.625 + 2.875) 1e-6 each 4 times, k a = 1e12 * 1e-4 / 16: 121.875 N,
         // where the whole patch closed would carry k A d = 100 N.
-        let states = asm.pair_states(&se.equilibrium);
+        let states = asm.pair_states(&se.equilibrium, MU_SE);
         assert!(
             states[1].closed && (states[1].force - 121.875).abs() <= 1e-12 * 121.875,
             "{states:?}"

@@ -2,6 +2,12 @@
 //! reduced-interface model at a static equilibrium: the Craig-Bampton reduction onto the
 //! reduced contact nodes, with the swept contact removed and every other contact linearised.
 //!
+//! "Swept" pairs below are the pairs put on the boundary: the disc/pad pairs, and any kept
+//! pair the reduction reduced too (issue 32), which keeps its own law on the boundary
+//! ([`super::superelement::BoundaryPair::own_law`]). With every pair there, nothing is
+//! linearised, K_t = K, and the super-element is the same at any equilibrium: the sweep
+//! builds it at rest.
+//!
 //! - K_t = K + dF_c/dU of every non-swept pair at the equilibrium (supports are already out
 //!   of the DOF map).
 //! - Boundary B: the equations of c_k then d_k of every swept pair's points, in the order of
@@ -453,6 +459,9 @@ fn build<'rt>(
                 arm: t.arm,
                 shared,
             }),
+            // A kept pair on the boundary keeps its own law (the sweep's friction is the
+            // swept pairs').
+            own_law: (!model.swept[i]).then(|| pair.settings.clone()),
         });
     }
     let other_contacts = kept

@@ -23,12 +23,16 @@
 //! - [`strategy`]: which super-element serves each friction value (single, per-friction,
 //!   adaptive: rebuilt only when a kept contact changes state).
 //! - [`assembly`]: the dense super-element assembly: cubic node-to-node contact with force
-//!   matching (eq. 8), the reduced Newton static at any mu, and the dense CEA.
+//!   matching (eq. 8), the reduced Newton static at any mu, and the dense CEA;
+//!   [`dense_path`]: that static along a sweep's path (load ramp, friction steps), carrying
+//!   the slip history of kept Coulomb pairs reduced onto the boundary.
 
 pub mod assembly;
 pub mod basis;
 pub mod coupling;
 pub mod craig_bampton;
+pub mod dense_cea;
+pub mod dense_path;
 mod error;
 pub mod grid;
 pub mod interface;

@@ -48,6 +48,13 @@ pub struct BoundaryPair {
     /// the boundary. `None`: a point contact (the paper's).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tilt: Option<BoundaryTilt>,
+    /// A kept pair reduced onto the boundary (issue 32: an interior that holds no contact):
+    /// its own settings, friction, law (Coulomb stick and slip with its history along the
+    /// sweep) and separation, which the swept friction does not change; the assembly
+    /// evaluates it with the full model's code ([`crate::contact::evaluate`]). `None`: a
+    /// swept pair, its friction the sweep's along `sliding`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub own_law: Option<crate::contact::PairSettings>,
 }
 
 /// A boundary pair's patch law without its nodes (they are the pair's boundary coordinates
@@ -70,6 +77,12 @@ pub struct BoundaryTilt {
 }
 
 impl BoundaryPair {
+    /// Whether it is a swept pair (the sweep's friction acts on it), not a kept pair
+    /// reduced onto the boundary.
+    pub fn swept(&self) -> bool {
+        self.own_law.is_none()
+    }
+
     /// Its reduced coordinates: 6 (c, d), or 12 with tilt nodes of its own (c, d, r_p, r_d).
     pub fn width(&self) -> usize {
         match &self.tilt {

@@ -29,7 +29,12 @@ use std::path::{Path, PathBuf};
 pub const MAGIC: [u8; 8] = *b"SQUEALSE";
 /// The layout's version; a reader refuses any other.
 /// 2: the other contacts' states are open/stick/slip (1: closed flags).
-pub const FORMAT_VERSION: u32 = 2;
+/// 3: a boundary pair may carry its own law (`own_law`: a kept pair reduced onto the
+/// boundary); a version-2 file, which has none, is read as it is. A squeal that reads
+/// version 2 only would take a version-3 kept pair for a swept one: hence the new number.
+pub const FORMAT_VERSION: u32 = 3;
+/// The oldest version this squeal reads.
+pub const OLDEST_READABLE_VERSION: u32 = 2;
 /// Magic, version and header length.
 const PREAMBLE: u64 = 20;
 
@@ -50,7 +55,7 @@ pub enum SuperElementFileError {
     #[error("{} is not a squeal super-element file (its first bytes are not the magic {:?})", path.display(), String::from_utf8_lossy(&MAGIC))]
     WrongMagic { path: PathBuf },
     #[error(
-        "super-element file {} has format version {found}; this squeal reads version {supported}",
+        "super-element file {} has format version {found}; this squeal reads versions 2 to {supported}",
         path.display()
     )]
     WrongVersion {
@@ -198,9 +203,12 @@ fn check_values(h: &crate::reduce::superelement::SuperElementHeader) -> Result<(
                 b.area, b.penalty
             ));
         }
-        if !(b.initial_gap.is_finite() && b.normal_force.is_finite() && b.normal_force >= 0.0) {
+        // A bilateral pair may pull (as the assembly accepts).
+        let force_sign = b.normal_force >= 0.0 || !b.separation;
+        if !(b.initial_gap.is_finite() && b.normal_force.is_finite() && force_sign) {
             return bad(format!(
-                "initial gap {} and normal force {} must be finite, the force >= 0",
+                "initial gap {} and normal force {} must be finite, the force >= 0 where the \
+                 pair may open",
                 b.initial_gap, b.normal_force
             ));
         }
@@ -353,7 +361,7 @@ fn read_from(
     }
     reader.read_exact(&mut preamble[8..]).map_err(io)?;
     let version = u32::from_le_bytes(preamble[8..12].try_into().expect("4 bytes"));
-    if version != FORMAT_VERSION {
+    if !(OLDEST_READABLE_VERSION..=FORMAT_VERSION).contains(&version) {
         return Err(SuperElementFileError::WrongVersion {
             path: p(),
             found: version,
@@ -481,6 +489,7 @@ mod tests {
             separation: k == 0,
             normal_force: 123.456789,
             tilt: None,
+            own_law: None,
         };
         SuperElement {
             header: SuperElementHeader {

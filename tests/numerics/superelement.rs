@@ -579,7 +579,7 @@ fn patch_law_assembly(rt: &Runtime, shares: bool) -> Result<Vec<f64>, String> {
         ));
     }
     // Closed pairs carry the load: some pair is partly or wholly closed.
-    let states = assembly.pair_states(&se.equilibrium);
+    let states = assembly.pair_states(&se.equilibrium, se.header.friction);
     if !states.iter().any(|p| p.closed && p.force > 0.0) {
         return Err("no patch pair closed at the equilibrium".into());
     }

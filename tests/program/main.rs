@@ -15,6 +15,7 @@ mod reference;
 
 mod build_probe;
 mod cli;
+mod contact_free_superelement;
 mod deck_contact;
 mod deck_steps;
 mod layout;

@@ -47,6 +47,10 @@ pub struct SuperElementState {
     pub interior_modes: Option<usize>,
     /// The previous point's dense static (the single strategy's warm start).
     pub previous_q: Option<Vec<f64>>,
+    /// The previous point's dense static with its slip history, where a super-element with
+    /// kept pairs on its boundary steps on from (issue 32); none in older checkpoints.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub dense_previous: Option<crate::reduce::dense_path::DenseState>,
 }
 
 /// An equilibrium on the friction path, as far as predicting the next one needs it.

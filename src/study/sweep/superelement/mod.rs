@@ -11,6 +11,8 @@
 //! boundary coordinates (every reduced contact node and disc node), which every
 //! super-element of a sweep shares.
 
+mod dense;
+
 use super::full::{mesh_part, FullModel};
 use super::SweepSettings;
 use super::{
@@ -24,15 +26,13 @@ use crate::mesh::hash;
 use crate::mesh::Mesh;
 use crate::model::Model;
 use crate::petsc::{Comm, DenseMatrix, Vector};
-use crate::reduce::assembly::{
-    Assembly, CubicContact, DenseCeaOptions, DenseCeaResult, ReducedStatic, StaticOptions,
-};
+use crate::reduce::assembly::CubicContact;
+use crate::reduce::dense_path::DenseState;
 use crate::reduce::{self, Decision, LocalBasis, ReducedInterface, Step, Strategy};
 use crate::results::{
     ModelInfo, PairReport, SuperElementInfo, SuperElementPoint, SweepPointReport,
 };
 use crate::study::bench::peak_rss_mib;
-use crate::study::report::collective;
 use crate::study::StudyError;
 use faer::Mat;
 use num_complex::Complex64;
@@ -91,6 +91,18 @@ fn slipping_forces(swept: &[usize], states: &[Vec<PointState>]) -> Vec<Vec<Optio
 pub struct SuperElementModel<'rt> {
     base: FullModel<'rt>,
     swept: Vec<usize>,
+    /// The pairs on the super-element's boundary: the swept ones and every kept pair the
+    /// reduction reduced too (`reduction.reduce_pairs`), each with its own law.
+    boundary: Vec<usize>,
+    /// Every pair of the model is on the boundary, as `reduce_pairs` asked: the interior is
+    /// linear elastic and holds no contact, so its basis depends on nothing that changes
+    /// along the sweep. It is built once, at rest, with no full-size static (issue 32).
+    contact_free: bool,
+    /// The first point's load increments (the study's), for the dense ramp from rest.
+    increments: usize,
+    /// The previous point's dense static with its slip history (where a super-element that
+    /// carries history steps on from, [`dense`]).
+    dense_previous: Option<DenseState>,
     settings: SuperElementSettings,
     current: Option<Current>,
     /// The previous point's dense static (the single strategy's warm start).
@@ -123,17 +135,6 @@ struct Choice {
     equilibrium: Option<StaticSolution>,
 }
 
-/// Rank 0's dense results, as every rank needs them.
-struct Dense {
-    /// Each mode's lambda (the CEA's, (lambda^2 M + K_t) x = 0).
-    lambdas: Vec<Complex64>,
-    q_static: Vec<f64>,
-    /// Each mode's shape in q.
-    shapes: Vec<Vec<Complex64>>,
-    /// Rank 0 only: the static and the modes.
-    root: Option<(ReducedStatic, DenseCeaResult, f64, f64, f64)>,
-}
-
 impl<'rt> SuperElementModel<'rt> {
     /// The reduced-interface model of a sweep whose `[reduction]` asks for super-elements.
     /// Collective.
@@ -158,6 +159,17 @@ impl<'rt> SuperElementModel<'rt> {
             .enumerate()
             .filter_map(|(i, &s)| s.then_some(i))
             .collect();
+        let reduced = reduced_interface(&base)?;
+        let boundary: Vec<usize> = base
+            .model
+            .pairs
+            .iter()
+            .enumerate()
+            .filter(|(_, p)| reduced.pads.iter().any(|pad| pad.pair == p.settings.name))
+            .map(|(i, _)| i)
+            .collect();
+        let contact_free =
+            !reduction.reduce_pairs.is_swept() && boundary.len() == base.model.pairs.len();
         if let Some(k_linear) = reduction.k_linear {
             check_k_linear(&base.model, &swept, k_linear).map_err(StudyError::collective)?;
         }
@@ -180,6 +192,10 @@ impl<'rt> SuperElementModel<'rt> {
             study_hash: sweep.hash(),
             base,
             swept,
+            boundary,
+            contact_free,
+            increments: sweep.analysis.increments,
+            dense_previous: None,
             settings,
             current: None,
             previous_q: None,
@@ -204,8 +220,12 @@ impl<'rt> SuperElementModel<'rt> {
         comm: Comm<'rt>,
         mu: f64,
     ) -> Result<&reduce::superelement::SuperElement, StudyError> {
-        let equilibrium = self.base.static_at(comm, mu)?;
-        self.build(comm, &equilibrium, mu)?;
+        if self.contact_free {
+            self.build_at_rest(comm, mu)?;
+        } else {
+            let equilibrium = self.base.static_at(comm, mu)?;
+            self.build(comm, &equilibrium, mu)?;
+        }
         Ok(&self.current.as_ref().expect("just built").se)
     }
 
@@ -217,6 +237,21 @@ impl<'rt> SuperElementModel<'rt> {
         mu: f64,
     ) -> Result<(), StudyError> {
         self.build_at(comm, equilibrium.configuration(), mu)
+    }
+
+    /// Builds the contact-free super-element (every pair on its boundary) at rest: with no
+    /// contact inside, its interior is linear and needs no equilibrium. Collective.
+    fn build_at_rest(&mut self, comm: Comm<'rt>, mu: f64) -> Result<(), StudyError> {
+        let rest = vec![[0.0; 3]; self.base.model.node_count()];
+        let no_slip = SlipHistory::default();
+        self.build_at(
+            comm,
+            Configuration {
+                displacement: &rest,
+                slip: &no_slip,
+            },
+            mu,
+        )
     }
 
     /// Builds a super-element at the equilibrium `at` (friction `mu`) and makes it current.
@@ -232,7 +267,7 @@ impl<'rt> SuperElementModel<'rt> {
             reduced,
             self.base.operators(),
             at,
-            &self.swept,
+            &self.boundary,
             &reduce::BuildSettings {
                 friction: mu,
                 cutoff_hz: self.settings.cutoff_hz,
@@ -247,7 +282,7 @@ impl<'rt> SuperElementModel<'rt> {
                     mu,
                     source: e.into(),
                 })?;
-        let slipping = slipping_forces(&self.swept, &states);
+        let slipping = slipping_forces(&self.boundary, &states);
         let basis = LocalBasis::from_dense(&cb.basis)?;
         let mut se = cb.superelement;
         se.header.mesh_hash = self.mesh_hash.clone();
@@ -265,6 +300,30 @@ impl<'rt> SuperElementModel<'rt> {
             slipping,
         });
         Ok(())
+    }
+
+    /// The model's slip history with the dense static's anchors on the boundary pairs'
+    /// points (the current super-element's own history elsewhere).
+    fn dense_slip(&self, anchors: &[[f64; 3]]) -> SlipHistory {
+        let Some(current) = self.current.as_ref() else {
+            return SlipHistory::default();
+        };
+        let mut per_pair: Vec<Vec<[f64; 3]>> = self
+            .base
+            .model
+            .pairs
+            .iter()
+            .enumerate()
+            .map(|(i, p)| {
+                (0..p.points.len())
+                    .map(|k| current.slip.anchor(i, k))
+                    .collect()
+            })
+            .collect();
+        for (&(i, k), &a) in current.boundary_points.iter().zip(anchors) {
+            per_pair[i][k] = a;
+        }
+        SlipHistory::from_anchors(per_pair)
     }
 
     /// Moves the current super-element to another equilibrium with the same kept-contact
@@ -323,7 +382,7 @@ impl<'rt> SuperElementModel<'rt> {
             reduced,
             self.base.operators(),
             equilibrium.configuration(),
-            &self.swept,
+            &self.boundary,
             &current.basis,
             &mut current.se,
         )
@@ -337,7 +396,7 @@ impl<'rt> SuperElementModel<'rt> {
             .pairs
             .iter()
             .enumerate()
-            .filter(|(i, _)| !self.swept.contains(i))
+            .filter(|(i, _)| !self.boundary.contains(i))
             .map(|(i, p)| {
                 (
                     p.settings.name.clone(),
@@ -359,6 +418,34 @@ impl<'rt> SuperElementModel<'rt> {
             equilibrium: None,
         };
         let strategy = self.settings.strategy;
+        if self.contact_free {
+            let first = self.current.is_none();
+            if first || strategy == Strategy::PerFriction {
+                let t = Instant::now();
+                self.build_at_rest(comm, mu)?;
+                choice.build_seconds = t.elapsed().as_secs_f64();
+                choice.rebuilt = true;
+                choice.reason = format!(
+                    "{}: made at rest, with no full-size static: every pair is on its \
+                     boundary, so its interior holds no contact and its basis does not \
+                     depend on mu{}",
+                    strategy.name(),
+                    if first {
+                        ""
+                    } else {
+                        " (made again as the strategy asks)"
+                    }
+                );
+            } else {
+                let made_at = self.current.as_ref().map_or(mu, |c| c.made_at);
+                choice.reason = format!(
+                    "{}: the super-element made at mu {made_at} serves every friction value \
+                     (no contact inside it)",
+                    strategy.name()
+                );
+            }
+            return Ok(choice);
+        }
         let at = match strategy.step(mu, self.settings.friction, self.current.is_some()) {
             Step::Keep(why) => {
                 choice.reason = why;
@@ -391,7 +478,7 @@ impl<'rt> SuperElementModel<'rt> {
         let limit = reduce::strategy::MAX_SLIP_TURN_DEGREES;
         let mut largest_turn = 0.0;
         if let (Decision::Reuse, Some(current)) = (&decision, &self.current) {
-            let now = slipping_forces(&self.swept, &equilibrium.contact);
+            let now = slipping_forces(&self.boundary, &equilibrium.contact);
             let (turned, largest) = reduce::strategy::slip_turns(&current.slipping, &now, limit);
             largest_turn = largest;
             tracing::debug!(
@@ -431,100 +518,6 @@ impl<'rt> SuperElementModel<'rt> {
         }
         Ok(choice)
     }
-
-    /// The dense static and CEA on rank 0, broadcast. Collective.
-    fn dense(&self, comm: Comm<'rt>, mu: f64, anchored: bool) -> Result<Dense, StudyError> {
-        let current = self.current.as_ref().ok_or(StudyError::NoSuperElement)?;
-        let se = &current.se;
-        let n = se.header.size;
-        let mut payload = Vec::new();
-        let mut root = None;
-        let local = if comm.rank() == 0 {
-            let run = || -> Result<_, reduce::assembly::AssemblyError> {
-                let assembly = Assembly::new(se, &self.settings.contact)?;
-                let start = match (&self.previous_q, anchored) {
-                    (Some(q), false) => q.as_slice(),
-                    _ => se.equilibrium.as_slice(),
-                };
-                let start_residual = assembly.relative_residual(start, mu);
-                let t = Instant::now();
-                let statics = assembly.solve_static_from(start, mu, &StaticOptions::default())?;
-                let static_seconds = t.elapsed().as_secs_f64();
-                let t = Instant::now();
-                let cea = assembly.cea(
-                    &statics.q,
-                    mu,
-                    &DenseCeaOptions {
-                        max_frequency_hz: self.settings.max_frequency_hz,
-                        unstable_threshold: self.settings.unstable_threshold,
-                        // After a converged static: every body is held, no mode is rigid
-                        // whatever the round-off level (its ties' stiffness) says.
-                        expected_rigid_modes: Some(0),
-                    },
-                )?;
-                Ok((
-                    statics,
-                    cea,
-                    start_residual,
-                    static_seconds,
-                    t.elapsed().as_secs_f64(),
-                ))
-            };
-            match run() {
-                Ok(r) => {
-                    // [1, m, each mode's lambda (re, im), q_static, then per mode its
-                    // shape's real and imaginary parts].
-                    payload.push(1.0);
-                    payload.push(r.1.shapes.len() as f64);
-                    for mode in &r.1.modes {
-                        payload.extend([mode.lambda.re, mode.lambda.im]);
-                    }
-                    payload.extend_from_slice(&r.0.q);
-                    for shape in &r.1.shapes {
-                        payload.extend(shape.iter().map(|z| z.re));
-                        payload.extend(shape.iter().map(|z| z.im));
-                    }
-                    root = Some(r);
-                    Ok(())
-                }
-                Err(e) => {
-                    payload.push(0.0);
-                    Err(StudyError::DenseAssembly { mu, source: e })
-                }
-            }
-        } else {
-            Ok(())
-        };
-        comm.broadcast_from_root(&mut payload);
-        let local = local.and_then(|()| {
-            if payload.first() == Some(&1.0) {
-                Ok(())
-            } else {
-                Err(StudyError::FailedOnRoot("super-element assembly"))
-            }
-        });
-        collective(comm, local)?;
-        let m = payload[1] as usize;
-        let lambdas = (0..m)
-            .map(|j| Complex64::new(payload[2 + 2 * j], payload[3 + 2 * j]))
-            .collect();
-        let first = 2 + 2 * m;
-        let q_static = payload[first..first + n].to_vec();
-        let shapes = (0..m)
-            .map(|j| {
-                let at = first + n + 2 * n * j;
-                (0..n)
-                    .map(|i| Complex64::new(payload[at + i], payload[at + n + i]))
-                    .collect()
-            })
-            .collect();
-        Ok(Dense {
-            lambdas,
-            q_static,
-            shapes,
-            root,
-        })
-    }
 }
 
 impl<'rt> FrictionModel<'rt> for SuperElementModel<'rt> {
@@ -544,6 +537,7 @@ impl<'rt> FrictionModel<'rt> for SuperElementModel<'rt> {
                     .map(|c| (c.index, c.made_from.clone())),
                 interior_modes: self.interior_modes,
                 previous_q: self.previous_q.clone(),
+                dense_previous: self.dense_previous.clone(),
             }),
         }
     }
@@ -575,6 +569,7 @@ impl<'rt> FrictionModel<'rt> for SuperElementModel<'rt> {
         self.interior_modes = state.interior_modes;
         self.built = state.built;
         self.previous_q = state.previous_q.clone();
+        self.dense_previous = state.dense_previous.clone();
         self.base.restore_previous(checkpoint.previous.as_ref())?;
         self.base.restore_earlier(checkpoint.earlier.as_ref())
     }
@@ -607,7 +602,7 @@ impl<'rt> FrictionModel<'rt> for SuperElementModel<'rt> {
         let t = Instant::now();
         let choice = self.choose(comm, mu)?;
         let dense = self.dense(comm, mu, choice.anchored)?;
-        self.previous_q = Some(dense.q_static.clone());
+        self.carry(mu, &dense);
 
         // Expansion (u = T q) of the static and every mode, and each mode's residual in the
         // reduced-interface model.
@@ -621,6 +616,11 @@ impl<'rt> FrictionModel<'rt> for SuperElementModel<'rt> {
             c => dense.shapes[(c - 1) / 2][i].im,
         });
         let expanded = current.basis.expand(q.as_ref());
+        let slip_static = if self.carries_history() {
+            self.dense_slip(&dense.anchors)
+        } else {
+            current.slip.clone()
+        };
         let rows = current.basis.rows();
         let local_rows = rows.len();
         let column = |c: usize| -> Vec<f64> { (0..local_rows).map(|i| expanded[(i, c)]).collect() };
@@ -642,9 +642,11 @@ impl<'rt> FrictionModel<'rt> for SuperElementModel<'rt> {
             // the residual: estimates of 1e3 on a reused tiny-caliper super-element whose
             // modes were within 1.4 %. The single super-element away from mu_SE has no such
             // equilibrium (not solving it is its point): the expanded static stands in.
+            // A super-element that carries the slip history: the dense static's, on its
+            // boundary pairs' points.
             let (u_tangent, slip_tangent) = match &choice.equilibrium {
                 Some(e) => (&e.displacement, &e.slip_after),
-                None => (&u_static, &current.slip),
+                None => (&u_static, &slip_static),
             };
             let (ku, mu_shapes, diagonal) =
                 self.base
@@ -728,7 +730,7 @@ impl<'rt> FrictionModel<'rt> for SuperElementModel<'rt> {
         // every rank (the same data, so a failure is every rank's); the swept pairs' are then
         // replaced on rank 0 by the dense laws'.
         let mut states: Vec<Vec<PointState>> =
-            statics::contact_states(&pairs, &current.slip, &u_static)?;
+            statics::contact_states(&pairs, &slip_static, &u_static)?;
         let (report, tracking_shapes, fields) = match &dense.root {
             Some((statics, cea, start_residual, static_seconds, cea_seconds)) if root => {
                 for (state, &(i, k)) in statics.pairs.iter().zip(&current.boundary_points) {
@@ -739,17 +741,11 @@ impl<'rt> FrictionModel<'rt> for SuperElementModel<'rt> {
                         normal_force: state.force,
                         pressure: if area > 0.0 { state.force / area } else { 0.0 },
                         closed: state.closed,
-                        status: if state.closed {
-                            Status::Slip
-                        } else {
-                            Status::Open
-                        },
-                        // The swept pairs slide steadily: mu F along the sliding direction.
-                        friction_force: point
-                            .tangent
-                            .map(|t| crate::vector3::scale(mu * state.force, t))
-                            .unwrap_or_default(),
-                        anchor: [0.0; 3],
+                        // A swept pair slides steadily (mu F along its sliding direction), a
+                        // kept pair on the boundary sticks or slips by its own law.
+                        status: state.status,
+                        friction_force: state.friction_force,
+                        anchor: state.anchor,
                         // Not the pair's own law: the dense law's zone is not reported
                         // (`PairReport::zone` is cleared below).
                         slope: 0.0,
@@ -768,7 +764,7 @@ impl<'rt> FrictionModel<'rt> for SuperElementModel<'rt> {
                             normal_total += summary.normal_force;
                         }
                         let mut report = PairReport::new(&p.settings.name, &summary);
-                        if self.swept.contains(&i) {
+                        if self.boundary.contains(&i) {
                             report.zone = None;
                         }
                         report
