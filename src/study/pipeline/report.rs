@@ -56,6 +56,41 @@ fn median(mut xs: Vec<f64>) -> f64 {
     xs.get(xs.len() / 2).copied().unwrap_or(0.0)
 }
 
+/// When a super-element model's sweep costs less than the full model's: its builds (and the
+/// full-size statics they stood on) once, then each friction value's own time, against the
+/// full model's median time per friction value. Says how many friction values the reduced
+/// model needs, with what it was computed from, or that it never pays.
+fn break_even(points: &[crate::results::SweepPointReport], full_per_mu: f64) -> String {
+    let overhead = |p: &crate::results::SweepPointReport| {
+        p.superelement.as_ref().map_or(0.0, |s| {
+            s.build_seconds + s.reduced_interface_static_seconds
+        })
+    };
+    let built: f64 = points.iter().map(overhead).sum();
+    let per_mu = median(points.iter().map(|p| p.seconds - overhead(p)).collect());
+    let gain = full_per_mu - per_mu;
+    // A model that rebuilds at every point pays its builds at every point.
+    let every_point = points.len() > 1
+        && points
+            .iter()
+            .all(|p| p.superelement.as_ref().is_some_and(|s| s.rebuilt));
+    if every_point {
+        let each = median(points.iter().map(|p| p.seconds).collect());
+        let costs = format!("a build at every mu, {each:.2} s per mu");
+        return if each < full_per_mu {
+            format!("1 friction value ({costs})")
+        } else {
+            format!("never ({costs})")
+        };
+    }
+    let costs = format!("builds {built:.1} s, then {per_mu:.2} s per mu");
+    if gain <= 0.0 {
+        return format!("never ({costs})");
+    }
+    let n = (built / gain).ceil().max(1.0);
+    format!("{n:.0} friction values ({costs})")
+}
+
 impl Report {
     /// The report of a finished study (rank 0): reads every stage's result under the study's
     /// output folder.
@@ -92,6 +127,7 @@ impl Report {
         // Models: sizes, times, memory.
         blocks.push(Block::Heading(2, "Models and costs".into()));
         let mut rows = Vec::new();
+        let full_per_mu = median(full.points.iter().map(|p| p.seconds).collect());
         for (stage, outcome) in stages.iter().zip(outcomes) {
             let Work::Sweep(_) = stage.work else {
                 continue;
@@ -129,6 +165,11 @@ impl Report {
                     )
                 )
             };
+            let pays = if se.is_empty() {
+                "-".to_string()
+            } else {
+                break_even(points, full_per_mu)
+            };
             rows.push(vec![
                 stage.title.clone(),
                 format!("`{}`", stage.name),
@@ -136,6 +177,7 @@ impl Report {
                 sweep.instabilities.len().to_string(),
                 format!("{per_mu:.1} s{dense}"),
                 format!("{:.1} s{}", outcome.seconds(), outcome.note()),
+                pays,
                 format!("{memory:.0} MiB"),
             ]);
         }
@@ -147,6 +189,7 @@ impl Report {
                 "instabilities",
                 "time per mu (median)",
                 "stage time",
+                "cheaper than the full sweep from",
                 "peak memory (all ranks)",
             ]
             .map(String::from)
@@ -737,6 +780,50 @@ fn strip_prolog(svg: &str) -> &str {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn break_even_counts_the_friction_values_a_build_needs_to_pay() {
+        let point = |seconds: f64, build: f64, rebuilt: bool| {
+            let mut p: crate::results::SweepPointReport =
+                serde_json::from_value(serde_json::json!({
+                    "friction": 0.5, "static_iterations": 1, "static_factorizations": 0,
+                    "static_residuals": [], "cutbacks": 0, "contact": [],
+                    "balance_ratio": 1.0, "eigenvalues": [], "static_seconds": 0.0,
+                    "cea_seconds": 0.0, "cea_shifts": 0, "seconds": seconds,
+                    "peak_rss_mib_max_rank": 0.0, "peak_rss_mib_all_ranks": 0.0
+                }))
+                .unwrap();
+            p.superelement = Some(
+                serde_json::from_value(serde_json::json!({
+                    "strategy": "single", "index": 1, "made_at_friction": 0.5,
+                    "rebuilt": rebuilt, "reason": "", "size": 10, "boundary": 6, "modes": 3,
+                    "reduced_interface_static_seconds": 0.0, "build_seconds": build,
+                    "start_residual": 0.0, "dense_static_iterations": 1,
+                    "dense_static_seconds": 0.0, "dense_cea_seconds": 0.0,
+                    "expansion_seconds": 0.0, "expansion_residuals": [],
+                    "frequency_error_estimates": []
+                }))
+                .unwrap(),
+            );
+            p
+        };
+        // Built once in 30 s, 1 s a point after, against 7 s: 30 / 6 = 5 friction values.
+        let once = [
+            point(31.0, 30.0, true),
+            point(1.0, 0.0, false),
+            point(1.0, 0.0, false),
+        ];
+        assert!(
+            break_even(&once, 7.0).starts_with("5 friction values"),
+            "{}",
+            break_even(&once, 7.0)
+        );
+        assert!(break_even(&once, 1.0).starts_with("never"));
+        // Built at every point: cheaper from the first only if a point with its build is.
+        let every = [point(3.0, 2.0, true), point(3.0, 2.0, true)];
+        assert!(break_even(&every, 7.0).starts_with("1 friction value"));
+        assert!(break_even(&every, 2.0).starts_with("never"));
+    }
 
     #[test]
     fn markdown_and_html_render_the_same_blocks() {
