@@ -301,38 +301,23 @@ fn local_pair(pair: &BoundaryPair) -> Result<Option<ContactPair>, String> {
                 .into(),
         );
     }
-    if let Some(own) = &pair.own_law {
-        let point = ContactPoint {
-            slave: vec![(0, 1.0)],
-            master: vec![(1, 1.0)],
-            normal: pair.normal,
-            initial_gap: pair.initial_gap,
-            area: pair.area,
-            tangent: pair.sliding,
-            position: pair.pad_position,
-            slave_node: 0,
-            master_face: None,
-            tilt: None,
-        };
-        let mut settings = own.clone();
-        // The penalty in use is the boundary pair's (the model's resolved one).
-        settings.penalty = Some(pair.penalty);
-        return contact::node_to_node(settings, pair.penalty, vec![point])
-            .map(Some)
-            .map_err(|e| e.to_string());
-    }
-    let Some(tilt) = &pair.tilt else {
-        return Ok(None);
-    };
-    let settings = PairSettings {
-        name: pair.pair.clone(),
-        friction: 0.0,
-        penalty: Some(pair.penalty),
-        separation: pair.separation,
-        // The point's own tangent below is what the law uses.
-        sliding: contact::SlidingDirection::None,
-        law: contact::FrictionLaw::SteadySliding,
-        calculix: None,
+    let settings = match (&pair.own_law, &pair.tilt) {
+        (Some(own), _) => PairSettings {
+            // The penalty in use is the boundary pair's (the model's resolved one).
+            penalty: Some(pair.penalty),
+            ..own.clone()
+        },
+        (None, Some(_)) => PairSettings {
+            name: pair.pair.clone(),
+            friction: 0.0,
+            penalty: Some(pair.penalty),
+            separation: pair.separation,
+            // The point's own tangent below is what the law uses.
+            sliding: contact::SlidingDirection::None,
+            law: contact::FrictionLaw::SteadySliding,
+            calculix: None,
+        },
+        (None, None) => return Ok(None),
     };
     let point = ContactPoint {
         slave: vec![(0, 1.0)],
@@ -344,7 +329,7 @@ fn local_pair(pair: &BoundaryPair) -> Result<Option<ContactPair>, String> {
         position: pair.pad_position,
         slave_node: 0,
         master_face: None,
-        tilt: Some(contact::Tilt {
+        tilt: pair.tilt.as_ref().map(|tilt| contact::Tilt {
             nodes: [2, 3],
             axes: tilt.axes,
             patch: tilt.patch.clone(),
