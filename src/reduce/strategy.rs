@@ -13,6 +13,10 @@
 //!   super-element only when a kept contact changed state or a slipping one turned its slip
 //!   direction by more than [`MAX_SLIP_TURN_DEGREES`] ([`slip_turns`]), else the current one
 //!   moved to the new equilibrium ([`super::LocalBasis::coordinates`]).
+//!
+//! With every pair on the boundary (`reduction.reduce_pairs`, issue 32) nothing is
+//! linearised inside: every strategy's super-element is the one made at rest, and the sweep
+//! solves no reduced-interface static (`crate::study::sweep`).
 
 use crate::contact::Status;
 use serde::{Deserialize, Serialize};
@@ -67,13 +71,22 @@ impl Strategy {
     pub fn decide(
         self,
         at: f64,
-        current: Option<&ContactStates>,
-        now: impl FnOnce() -> Vec<(String, Vec<Status>)>,
+        current: Option<Kept<'_>>,
+        now: impl FnOnce() -> (Vec<(String, Vec<Status>)>, Slipping),
     ) -> Decision {
         match self {
             Strategy::Single => Decision::Rebuild(format!("single: made at mu_SE = {at}")),
             Strategy::PerFriction => Decision::Rebuild("per-friction: made at this mu".into()),
-            Strategy::Adaptive => decide(current, &now()),
+            Strategy::Adaptive => {
+                let (states, slipping) = now();
+                decide(
+                    current,
+                    Kept {
+                        states: &states,
+                        slipping: &slipping,
+                    },
+                )
+            }
         }
     }
 
@@ -95,11 +108,24 @@ impl Strategy {
 /// records it.
 pub type ContactStates = [(String, Vec<Status>)];
 
+/// Each kept pair's slipping points' friction forces, per pair and point (`None` where a
+/// point does not slip with a force).
+pub type Slipping = Vec<Vec<Option<[f64; 3]>>>;
+
+/// What the adaptive rule weighs of the kept (non-swept) contacts at one equilibrium.
+#[derive(Clone, Copy, Debug)]
+pub struct Kept<'a> {
+    /// Every point's state, per pair.
+    pub states: &'a ContactStates,
+    /// Each slipping point's friction force ([`Slipping`]); empty: none slips.
+    pub slipping: &'a [Vec<Option<[f64; 3]>>],
+}
+
 /// What the adaptive strategy does at a friction value.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Decision {
-    /// Keep the current super-element (moved to the new equilibrium).
-    Reuse,
+    /// Keep the current super-element (moved to the new equilibrium), and why.
+    Reuse(String),
     /// Build a new one, and why.
     Rebuild(String),
 }
@@ -146,13 +172,17 @@ pub fn slip_turns(
     (count, largest)
 }
 
-/// The adaptive rule: rebuild when there is no super-element yet, or when a kept contact's
+/// The adaptive rule: rebuild when there is no super-element yet, when a kept contact's
 /// state differs from the one the current super-element was made with (every changed point
-/// counted and named by pair in the reason).
-pub fn decide(current: Option<&ContactStates>, now: &ContactStates) -> Decision {
+/// counted and named by pair in the reason), or when a point slipping at both turned its
+/// slip direction by more than [`MAX_SLIP_TURN_DEGREES`] (the states alone do not say
+/// whether the basis still holds: a slipping point is held across its slip direction).
+pub fn decide(current: Option<Kept<'_>>, now: Kept<'_>) -> Decision {
     let Some(current) = current else {
         return Decision::Rebuild("no super-element yet".into());
     };
+    let (then, now_slipping) = (current.slipping, now.slipping);
+    let (current, now) = (current.states, now.states);
     let mut changes = Vec::new();
     for (name, states) in now {
         match current.iter().find(|(n, _)| n == name) {
@@ -183,11 +213,21 @@ pub fn decide(current: Option<&ContactStates>, now: &ContactStates) -> Decision 
             changes.push(format!("pair '{name}' is gone"));
         }
     }
-    if changes.is_empty() {
-        Decision::Reuse
-    } else {
-        Decision::Rebuild(changes.join("; "))
+    if !changes.is_empty() {
+        return Decision::Rebuild(changes.join("; "));
     }
+    let limit = MAX_SLIP_TURN_DEGREES;
+    let (turned, largest) = slip_turns(then, now_slipping, limit);
+    if turned > 0 {
+        return Decision::Rebuild(format!(
+            "adaptive: {turned} slipping kept points turned their slip direction by more than \
+             {limit} degrees (up to {largest:.1}) since the super-element was made"
+        ));
+    }
+    Decision::Reuse(format!(
+        "adaptive: no kept contact changed state, no slipping one turned by more than {limit} \
+         degrees (up to {largest:.2})"
+    ))
 }
 
 #[cfg(test)]
@@ -230,10 +270,18 @@ mod tests {
             .collect()
     }
 
+    /// Kept contacts with these states and no slipping force.
+    fn kept(states: &ContactStates) -> Kept<'_> {
+        Kept {
+            states,
+            slipping: &[],
+        }
+    }
+
     #[test]
     fn first_point_builds() {
         assert_eq!(
-            decide(None, &[]),
+            decide(None, kept(&[])),
             Decision::Rebuild("no super-element yet".into())
         );
     }
@@ -241,8 +289,42 @@ mod tests {
     #[test]
     fn same_states_reuse_even_without_kept_pairs() {
         let a = states(&[("caliper/pad", "tos")]);
-        assert_eq!(decide(Some(&a), &a), Decision::Reuse);
-        assert_eq!(decide(Some(&[]), &[]), Decision::Reuse);
+        assert!(matches!(
+            decide(Some(kept(&a)), kept(&a)),
+            Decision::Reuse(_)
+        ));
+        assert!(matches!(
+            decide(Some(kept(&[])), kept(&[])),
+            Decision::Reuse(_)
+        ));
+    }
+
+    /// The same states, but a slipping point turned: 2 degrees rebuilds, 0.5 reuses and
+    /// says how far.
+    #[test]
+    fn a_turned_slip_direction_rebuilds_where_the_states_are_the_same() {
+        let a = states(&[("caliper/pad", "tss")]);
+        let at = |degrees: f64| {
+            let r = degrees.to_radians();
+            Some([r.cos(), r.sin(), 0.0])
+        };
+        let then = vec![vec![None, at(0.0), at(30.0)]];
+        let turned = vec![vec![None, at(2.0), at(30.0)]];
+        let slightly = vec![vec![None, at(0.5), at(30.0)]];
+        let make = |s: &Slipping| -> Decision {
+            decide(
+                Some(Kept {
+                    states: &a,
+                    slipping: &then,
+                }),
+                Kept {
+                    states: &a,
+                    slipping: s,
+                },
+            )
+        };
+        assert!(matches!(make(&turned), Decision::Rebuild(why) if why.contains("1 slipping")));
+        assert!(matches!(make(&slightly), Decision::Reuse(why) if why.contains("0.50")));
     }
 
     #[test]
@@ -250,7 +332,7 @@ mod tests {
         let before = states(&[("caliper/pad", "tots"), ("piston", "t")]);
         let after = states(&[("caliper/pad", "otss"), ("piston", "t")]);
         assert_eq!(
-            decide(Some(&before), &after),
+            decide(Some(kept(&before)), kept(&after)),
             Decision::Rebuild(
                 "pair 'caliper/pad': 1 open -> stick, 1 stick -> open, 1 stick -> slip".into()
             )
@@ -258,7 +340,7 @@ mod tests {
         // Stick and slip matter as much as open and closed: the tangent changes.
         let slipped = states(&[("caliper/pad", "tots"), ("piston", "s")]);
         assert_eq!(
-            decide(Some(&before), &slipped),
+            decide(Some(kept(&before)), kept(&slipped)),
             Decision::Rebuild("pair 'piston': 1 stick -> slip".into())
         );
     }
@@ -268,7 +350,7 @@ mod tests {
         let before = states(&[("a", "t")]);
         let after = states(&[("b", "t")]);
         assert_eq!(
-            decide(Some(&before), &after),
+            decide(Some(kept(&before)), kept(&after)),
             Decision::Rebuild("pair 'b' is new; pair 'a' is gone".into())
         );
     }
@@ -299,20 +381,20 @@ mod tests {
             assert_eq!(s.step(mu, mu_se, true), Step::StaticAt(mu));
         }
         let was = states(&[("abutment", "oot")]);
-        let same = || states(&[("abutment", "oot")]);
-        let changed = || states(&[("abutment", "ots")]);
+        let same = || (states(&[("abutment", "oot")]), Vec::new());
+        let changed = || (states(&[("abutment", "ots")]), Vec::new());
         for s in [Strategy::Single, Strategy::PerFriction] {
             assert!(matches!(
-                s.decide(mu, Some(&was), same),
+                s.decide(mu, Some(kept(&was)), same),
                 Decision::Rebuild(_)
             ));
         }
-        assert_eq!(
-            Strategy::Adaptive.decide(mu, Some(&was), same),
-            Decision::Reuse
-        );
         assert!(matches!(
-            Strategy::Adaptive.decide(mu, Some(&was), changed),
+            Strategy::Adaptive.decide(mu, Some(kept(&was)), same),
+            Decision::Reuse(_)
+        ));
+        assert!(matches!(
+            Strategy::Adaptive.decide(mu, Some(kept(&was)), changed),
             Decision::Rebuild(why) if why.contains("abutment")
         ));
         assert!(matches!(

@@ -466,33 +466,19 @@ impl<'rt> SuperElementModel<'rt> {
             .iter()
             .map(|i| i.factorizations)
             .sum();
-        let mut decision = strategy.decide(
+        let decision = strategy.decide(
             at,
-            self.current
-                .as_ref()
-                .map(|c| &c.se.header.other_contacts[..]),
-            || self.kept_states(&equilibrium),
+            self.current.as_ref().map(|c| reduce::strategy::Kept {
+                states: &c.se.header.other_contacts,
+                slipping: &c.slipping,
+            }),
+            || {
+                (
+                    self.kept_states(&equilibrium),
+                    slipping_forces(&self.boundary, &equilibrium.contact),
+                )
+            },
         );
-        // The states alone do not say whether the basis still holds: a slipping point is held
-        // across its slip direction, and that direction turns with friction.
-        let limit = reduce::strategy::MAX_SLIP_TURN_DEGREES;
-        let mut largest_turn = 0.0;
-        if let (Decision::Reuse, Some(current)) = (&decision, &self.current) {
-            let now = slipping_forces(&self.boundary, &equilibrium.contact);
-            let (turned, largest) = reduce::strategy::slip_turns(&current.slipping, &now, limit);
-            largest_turn = largest;
-            tracing::debug!(
-                "mu {mu}: the kept slipping points turned by up to {largest:.2} degrees since \
-                 the super-element was made"
-            );
-            if turned > 0 {
-                decision = Decision::Rebuild(format!(
-                    "adaptive: {turned} slipping kept points turned their slip direction by \
-                     more than {limit} degrees (up to {largest:.1}) since mu {}",
-                    current.made_at
-                ));
-            }
-        }
         let t = Instant::now();
         match decision {
             Decision::Rebuild(why) => {
@@ -500,13 +486,12 @@ impl<'rt> SuperElementModel<'rt> {
                 choice.rebuilt = true;
                 choice.reason = why;
             }
-            Decision::Reuse => {
+            Decision::Reuse(why) => {
                 self.reproject(comm, &equilibrium, mu)?;
                 self.move_to(comm, &equilibrium)?;
                 choice.reason = format!(
-                    "adaptive: no kept contact changed state, no slipping one turned by more \
-                     than {limit} degrees (up to {largest_turn:.2}); its basis reused, this \
-                     mu's tangent projected on it, moved to this mu's equilibrium"
+                    "{why}; its basis reused, this mu's tangent projected on it, moved to this \
+                     mu's equilibrium"
                 );
             }
         }
