@@ -98,9 +98,14 @@ impl<'rt> SuperElementModel<'rt> {
         let local = if comm.rank() == 0 {
             let run = || -> Result<_, AssemblyError> {
                 let assembly = Assembly::new(se, &self.settings.contact)?;
+                // Where the static starts, with the history it starts from.
                 let start_residual = match (&self.dense_previous, &self.previous_q, anchored) {
-                    (Some(p), _, false) if self.carries_history() => {
-                        assembly.relative_residual(&p.q, mu)
+                    (Some(p), _, _) if self.carries_history() => {
+                        let from = if anchored { &se.equilibrium } else { &p.q };
+                        assembly
+                            .clone()
+                            .with_history(p.anchors.clone())?
+                            .relative_residual(from, mu)
                     }
                     (_, Some(q), false) => assembly.relative_residual(q, mu),
                     _ => assembly.relative_residual(&se.equilibrium, mu),
