@@ -897,7 +897,7 @@ fn kept_default_size(model: &Model, pair: usize, h: f64) -> Result<GridSize, Red
     let face_nodes = model.mesh.surface_nodes(slave).len();
     let mut spacing = h;
     let mut grid = isometric_grid(&model.mesh, slave, GridSize::Spacing(spacing))?;
-    let at_h = grid.second_moment_held();
+    let (at_h, count_at_h) = (grid.second_moment_held(), grid.count());
     for _ in 0..MAX_KEPT_REFINEMENTS {
         if grid.second_moment_held() >= MIN_KEPT_SECOND_MOMENT {
             break;
@@ -917,7 +917,7 @@ fn kept_default_size(model: &Model, pair: usize, h: f64) -> Result<GridSize, Red
              {:.1} % of the face's second moment of area (less than {:.0} %): grid side \
              {spacing:.4e}, {} nodes, {:.1} %",
             model.pairs[pair].settings.name,
-            isometric_grid(&model.mesh, slave, GridSize::Spacing(h))?.count(),
+            count_at_h,
             100.0 * at_h,
             100.0 * MIN_KEPT_SECOND_MOMENT,
             grid.count(),
