@@ -167,6 +167,47 @@ impl<'rt> Matrix<'rt> {
         })
     }
 
+    /// A sequential dense matrix (MATSEQDENSE) holding `values`, on a communicator of one
+    /// rank: a reduced model's small dense operator handed to the same solvers as the full
+    /// model's (a shift-and-invert eigensolve then factors it with LAPACK through PETSc's own
+    /// LU, [`super::DirectPackage::Petsc`]).
+    pub fn sequential_dense(comm: Comm<'rt>, values: faer::MatRef<'_, f64>) -> Result<Matrix<'rt>> {
+        if comm.size() != 1 {
+            return Err(PetscError::Invalid(format!(
+                "a sequential dense matrix lives on one rank, not {}",
+                comm.size()
+            )));
+        }
+        let (rows, cols) = (values.nrows(), values.ncols());
+        let mut raw = std::ptr::null_mut();
+        // SAFETY: out-pointer to a local; a null data pointer makes PETSc allocate its own
+        // column-major rows x cols array (leading dimension asked of it), which we fill
+        // through the MatDenseGetArrayWrite / MatDenseRestoreArrayWrite pair, then assemble.
+        unsafe {
+            check(sys::MatCreateSeqDense(
+                comm.raw,
+                to_int(rows)?,
+                to_int(cols)?,
+                std::ptr::null_mut(),
+                &mut raw,
+            ))?;
+            let mut m = Matrix::from_raw(raw);
+            let mut lda = 0;
+            check(sys::MatDenseGetLDA(raw, &mut lda))?;
+            let lda = lda as usize;
+            let mut ptr = std::ptr::null_mut();
+            check(sys::MatDenseGetArrayWrite(raw, &mut ptr))?;
+            for j in 0..cols {
+                for i in 0..rows {
+                    *ptr.add(j * lda + i) = values[(i, j)];
+                }
+            }
+            check(sys::MatDenseRestoreArrayWrite(raw, &mut ptr))?;
+            m.assemble()?;
+            Ok(m)
+        }
+    }
+
     /// Final assembly: communicates off-rank entries (collective).
     pub fn assemble(&mut self) -> Result<()> {
         // SAFETY: live matrix.

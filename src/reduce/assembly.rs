@@ -49,7 +49,9 @@
 //! ([`ReducedStatic::anchors`]); the CEA's tangent is formed from the history after the
 //! static (the committed one, as [`contact::perturbation_history`] does for the full model).
 
-pub use super::dense_cea::{dense_cea, DenseCeaOptions, DenseCeaResult};
+pub use super::dense_cea::{
+    dense_cea, dense_cea_by, DenseCeaOptions, DenseCeaResult, DenseEigensolver,
+};
 use super::superelement::{BoundaryPair, SuperElement};
 use crate::contact::{
     self, ContactPair, ContactPoint, PairSettings, PointContribution, PointState, Status,
@@ -849,6 +851,23 @@ impl<'se> Assembly<'se> {
         options: &DenseCeaOptions,
     ) -> Result<DenseCeaResult, AssemblyError> {
         dense_cea(
+            self.jacobian(q, friction).as_ref(),
+            self.se.mass.as_ref(),
+            options,
+        )
+    }
+
+    /// [`Self::cea`] by the eigensolver given ([`DenseEigensolver::choose`] picks the band's
+    /// windows on a large model).
+    pub fn cea_by(
+        &self,
+        solver: DenseEigensolver<'_>,
+        q: &[f64],
+        friction: f64,
+        options: &DenseCeaOptions,
+    ) -> Result<DenseCeaResult, AssemblyError> {
+        dense_cea_by(
+            solver,
             self.jacobian(q, friction).as_ref(),
             self.se.mass.as_ref(),
             options,

@@ -2,10 +2,24 @@
 //! linearisation, [`super::assembly::Assembly::cea`]): every mode of the band of a dense
 //! unsymmetric stiffness against a dense symmetric positive definite mass, classified as the
 //! sparse CEA classifies its own.
+//!
+//! Two ways to the same modes ([`DenseEigensolver`]): faer's every eigenvalue and eigenvector
+//! of the whole problem (about 25 n^3 flops whatever the band holds), or the full model's
+//! shift-and-invert windows over the band alone on PETSc dense copies (LAPACK LU, then
+//! Krylov-Schur's solves of n^2 each). A super-element's band holds a few per cent of its
+//! modes (small-caliper, every pair on the boundary: 56 of 1,801 below 10 kHz), so the
+//! windows pay from a few hundred on: `examples/dense_cea_bench.rs`, medians of three,
+//! interleaved, on pencils of that spectrum: size 400 0.053 s every / 0.009 s windows, 800
+//! 0.244 / 0.056, 1,200 0.604 / 0.243, 1,800 1.63 / 1.41 (0.88 with the previous point's
+//! count). In small-caliper's sweep the dense CEA went from 1.9-2.1 s to 1.2 s at the first
+//! point and 0.7 s at the next.
 
 use super::assembly::AssemblyError;
-use crate::analysis::cea::{by_frequency, lambda_of, mode_from_lambda, CeaOptions, ComplexMode};
+use crate::analysis::cea::{
+    self, by_frequency, lambda_of, mode_from_lambda, CeaOptions, ComplexMode,
+};
 use crate::analysis::rigid;
+use crate::petsc::{Comm, DirectPackage, Factorization, LinearMethod, Matrix, PetscError};
 use faer::{Mat, MatRef, Side};
 use num_complex::Complex64;
 use std::f64::consts::PI;
@@ -41,17 +55,116 @@ pub struct DenseCeaResult {
     pub shapes: Vec<Vec<Complex64>>,
 }
 
-/// The undamped CEA of (K, M) on dense matrices, K unsymmetric, M symmetric positive
-/// definite: M = L L^T, the standard problem A y = omega^2 y with A = L^-1 K L^-T (faer's
-/// dense non-symmetric eigensolver), then x = L^-T y. (The QZ path, `generalized_eigen`, is
-/// minutes at n ~ 1000, see TOOLCHAIN.md.) Modes are classified exactly as the sparse CEA
-/// classifies its own ([`mode_from_lambda`], rigid-body flags from [`rigid`]). Each mode's
-/// residual is |K x - omega^2 M x| / ((|K|_F + |omega^2| |M|_F) |x|), a backward error.
-pub fn dense_cea(
+/// The size from which [`DenseEigensolver::choose`] takes the windows. Below it either way
+/// takes a few hundredths of a second (the module doc), and faer's, which needs no PETSc and
+/// steps through no windows, is kept.
+pub const WINDOWS_FROM: usize = 400;
+
+/// How the dense CEA finds its eigenvalues.
+#[derive(Clone, Copy)]
+pub enum DenseEigensolver<'rt> {
+    /// faer: every eigenvalue and eigenvector of the whole problem (about 25 n^3 flops).
+    Every,
+    /// The full model's CEA ([`crate::analysis::cea::undamped`]) on PETSc dense copies of
+    /// K and M on this rank alone: shift-and-invert windows over the band only, each one
+    /// LAPACK LU (2/3 n^3) and Krylov-Schur's solves (n^2 each).
+    Windows {
+        /// A communicator of this one rank.
+        solo: Comm<'rt>,
+        /// The band's mode count when known (the previous point's): one window then
+        /// covers it ([`CeaOptions::expected_modes`]).
+        expected_modes: Option<usize>,
+    },
+}
+
+impl<'rt> DenseEigensolver<'rt> {
+    /// [`Self::Windows`] from [`WINDOWS_FROM`] on, [`Self::Every`] below.
+    pub fn choose(size: usize, solo: Comm<'rt>, expected_modes: Option<usize>) -> Self {
+        if size >= WINDOWS_FROM {
+            DenseEigensolver::Windows {
+                solo,
+                expected_modes,
+            }
+        } else {
+            DenseEigensolver::Every
+        }
+    }
+}
+
+/// The dense CEA by `solver`: [`dense_cea`] or its windows (the same modes: the windows
+/// find every eigenvalue of the band to the CEA's tolerance, and the result is classified,
+/// normalised and its residuals measured exactly as [`dense_cea`] does).
+pub fn dense_cea_by(
+    solver: DenseEigensolver<'_>,
     stiffness: MatRef<'_, f64>,
     mass: MatRef<'_, f64>,
     options: &DenseCeaOptions,
 ) -> Result<DenseCeaResult, AssemblyError> {
+    let DenseEigensolver::Windows {
+        solo,
+        expected_modes,
+    } = solver
+    else {
+        return dense_cea(stiffness, mass, options);
+    };
+    check_input(stiffness, mass, options)?;
+    let n = stiffness.nrows();
+    let petsc = |e: PetscError| AssemblyError::Eigen(format!("the dense CEA's windows: {e}"));
+    let k = Matrix::sequential_dense(solo, stiffness).map_err(petsc)?;
+    let m = Matrix::sequential_dense(solo, mass).map_err(petsc)?;
+    let found = cea::undamped(
+        solo,
+        &k,
+        &m,
+        &CeaOptions {
+            max_frequency_hz: options.max_frequency_hz,
+            unstable_threshold: options.unstable_threshold,
+            expected_rigid_modes: options.expected_rigid_modes,
+            expected_modes,
+            linear: LinearMethod::Direct {
+                package: DirectPackage::Petsc,
+                factorization: Factorization::Lu,
+            },
+            ..Default::default()
+        },
+    )
+    .map_err(|e| AssemblyError::Eigen(format!("the dense CEA's windows on size {n}: {e}")))?;
+    let (k_norm, m_norm) = (frobenius(stiffness), frobenius(mass));
+    let mut modes = Vec::with_capacity(found.modes.len());
+    let mut shapes = Vec::with_capacity(found.modes.len());
+    for (mode, (re, im)) in found.modes.into_iter().zip(&found.shapes) {
+        let (re, im) = (re.read().map_err(petsc)?, im.read().map_err(petsc)?);
+        let xr = Mat::from_fn(n, 1, |i, _| re[i]);
+        let xi = Mat::from_fn(n, 1, |i, _| im[i]);
+        let w2 = -(mode.lambda * mode.lambda);
+        let (kr, ki) = (stiffness * &xr, stiffness * &xi);
+        let (mr, mi) = (mass * &xr, mass * &xi);
+        let residual = backward_error(
+            (0..n).map(|i| {
+                (
+                    Complex64::new(xr[(i, 0)], xi[(i, 0)]),
+                    Complex64::new(kr[(i, 0)], ki[(i, 0)]),
+                    Complex64::new(mr[(i, 0)], mi[(i, 0)]),
+                )
+            }),
+            w2,
+            k_norm,
+            m_norm,
+        );
+        let shape = largest_to_one((0..n).map(|i| Complex64::new(re[i], im[i])).collect());
+        modes.push(ComplexMode { residual, ..mode });
+        shapes.push(shape);
+    }
+    Ok(DenseCeaResult { modes, shapes })
+}
+
+/// What no eigensolver can use, said before one is tried: a wrong shape, a band that is
+/// not positive, a NaN or infinite entry (which faer reports as `NoConvergence`).
+fn check_input(
+    stiffness: MatRef<'_, f64>,
+    mass: MatRef<'_, f64>,
+    options: &DenseCeaOptions,
+) -> Result<(), AssemblyError> {
     let n = stiffness.nrows();
     if stiffness.ncols() != n || mass.nrows() != n || mass.ncols() != n {
         return Err(AssemblyError::Inconsistent(format!(
@@ -68,7 +181,6 @@ pub fn dense_cea(
             options.max_frequency_hz
         )));
     }
-    // Say which matrix holds what no eigensolver can use, where faer said `NoConvergence`.
     for (name, m) in [("stiffness", stiffness), ("mass", mass)] {
         if let Some((i, j)) = (0..n)
             .flat_map(|i| (0..n).map(move |j| (i, j)))
@@ -81,6 +193,22 @@ pub fn dense_cea(
             )));
         }
     }
+    Ok(())
+}
+
+/// The undamped CEA of (K, M) on dense matrices, K unsymmetric, M symmetric positive
+/// definite: M = L L^T, the standard problem A y = omega^2 y with A = L^-1 K L^-T (faer's
+/// dense non-symmetric eigensolver), then x = L^-T y. (The QZ path, `generalized_eigen`, is
+/// minutes at n ~ 1000, see TOOLCHAIN.md.) Modes are classified exactly as the sparse CEA
+/// classifies its own ([`mode_from_lambda`], rigid-body flags from [`rigid`]). Each mode's
+/// residual is |K x - omega^2 M x| / ((|K|_F + |omega^2| |M|_F) |x|), a backward error.
+pub fn dense_cea(
+    stiffness: MatRef<'_, f64>,
+    mass: MatRef<'_, f64>,
+    options: &DenseCeaOptions,
+) -> Result<DenseCeaResult, AssemblyError> {
+    check_input(stiffness, mass, options)?;
+    let n = stiffness.nrows();
     let llt = mass
         .llt(Side::Lower)
         .map_err(|_| AssemblyError::MassNotPositiveDefinite)?;
@@ -122,15 +250,6 @@ pub fn dense_cea(
     l.transpose().solve_upper_triangular_in_place(xi.as_mut());
     let (kr, ki) = (stiffness * &xr, stiffness * &xi);
     let (mr, mi) = (mass * &xr, mass * &xi);
-    let frobenius = |a: MatRef<'_, f64>| {
-        let mut s = 0.0;
-        for j in 0..a.ncols() {
-            for i in 0..a.nrows() {
-                s += a[(i, j)] * a[(i, j)];
-            }
-        }
-        s.sqrt()
-    };
     let (k_norm, m_norm) = (frobenius(stiffness), frobenius(mass));
     let level =
         rigid::ROUNDOFF * rigid::local_reference((0..n).map(|i| (stiffness[(i, i)], mass[(i, i)])));
@@ -139,27 +258,23 @@ pub fn dense_cea(
     let mut found: Vec<(ComplexMode, Vec<Complex64>)> = Vec::with_capacity(m);
     for (c, &j) in kept.iter().enumerate() {
         let w2 = values[j];
-        let mut residual2 = 0.0;
-        let mut x2 = 0.0;
-        let mut shape = Vec::with_capacity(n);
-        for i in 0..n {
-            let xv = Complex64::new(xr[(i, c)], xi[(i, c)]);
-            let r = Complex64::new(kr[(i, c)], ki[(i, c)])
-                - w2 * Complex64::new(mr[(i, c)], mi[(i, c)]);
-            residual2 += r.norm_sqr();
-            x2 += xv.norm_sqr();
-            shape.push(xv);
-        }
-        let residual = residual2.sqrt() / ((k_norm + w2.norm() * m_norm) * x2.sqrt());
-        let biggest = shape
-            .iter()
-            .copied()
-            .max_by(|a, b| a.norm_sqr().total_cmp(&b.norm_sqr()))
-            .unwrap_or(Complex64::new(1.0, 0.0));
-        if biggest.norm() > 0.0 {
-            let s = biggest.inv();
-            shape.iter_mut().for_each(|v| *v *= s);
-        }
+        let residual = backward_error(
+            (0..n).map(|i| {
+                (
+                    Complex64::new(xr[(i, c)], xi[(i, c)]),
+                    Complex64::new(kr[(i, c)], ki[(i, c)]),
+                    Complex64::new(mr[(i, c)], mi[(i, c)]),
+                )
+            }),
+            w2,
+            k_norm,
+            m_norm,
+        );
+        let shape = largest_to_one(
+            (0..n)
+                .map(|i| Complex64::new(xr[(i, c)], xi[(i, c)]))
+                .collect(),
+        );
         let mode = mode_from_lambda(
             lambda_of(w2),
             residual,
@@ -171,4 +286,44 @@ pub fn dense_cea(
     found.sort_by(|a, b| by_frequency(&a.0, &b.0));
     let (modes, shapes) = found.into_iter().unzip();
     Ok(DenseCeaResult { modes, shapes })
+}
+
+/// The Frobenius norm.
+fn frobenius(a: MatRef<'_, f64>) -> f64 {
+    let mut s = 0.0;
+    for j in 0..a.ncols() {
+        for i in 0..a.nrows() {
+            s += a[(i, j)] * a[(i, j)];
+        }
+    }
+    s.sqrt()
+}
+
+/// |K x - omega^2 M x| / ((|K|_F + |omega^2| |M|_F) |x|) from (x_i, (K x)_i, (M x)_i).
+fn backward_error(
+    rows: impl Iterator<Item = (Complex64, Complex64, Complex64)>,
+    w2: Complex64,
+    k_norm: f64,
+    m_norm: f64,
+) -> f64 {
+    let (mut r2, mut x2) = (0.0, 0.0);
+    for (x, kx, mx) in rows {
+        r2 += (kx - w2 * mx).norm_sqr();
+        x2 += x.norm_sqr();
+    }
+    r2.sqrt() / ((k_norm + w2.norm() * m_norm) * x2.sqrt())
+}
+
+/// The shape scaled so that its largest component is 1 + 0i.
+fn largest_to_one(mut shape: Vec<Complex64>) -> Vec<Complex64> {
+    let biggest = shape
+        .iter()
+        .copied()
+        .max_by(|a, b| a.norm_sqr().total_cmp(&b.norm_sqr()))
+        .unwrap_or(Complex64::new(1.0, 0.0));
+    if biggest.norm() > 0.0 {
+        let s = biggest.inv();
+        shape.iter_mut().for_each(|v| *v *= s);
+    }
+    shape
 }

@@ -4,8 +4,10 @@
 //! Runs on rank 0 (the work is dense and small); the other ranks wait for its verdict.
 
 use crate::analysis::cea::ComplexMode;
-use crate::petsc::Runtime;
-use crate::reduce::assembly::{Assembly, CubicContact, DenseCeaOptions, StaticOptions};
+use crate::petsc::{Comm, Runtime};
+use crate::reduce::assembly::{
+    Assembly, CubicContact, DenseCeaOptions, DenseEigensolver, StaticOptions,
+};
 use crate::reduce::superelement_file;
 use crate::study::report::{collective, json_for, write_file};
 use crate::study::StudyError;
@@ -54,14 +56,15 @@ struct AssembleReport<'a> {
 pub fn run(rt: &Runtime, args: &AssembleArgs) -> Result<(), StudyError> {
     let comm = rt.world();
     let local = if comm.rank() == 0 {
-        assemble(args)
+        assemble(rt.self_comm(), args)
     } else {
         Ok(())
     };
     collective(comm, local)
 }
 
-fn assemble(args: &AssembleArgs) -> Result<(), StudyError> {
+/// Rank 0's work; `solo` is this rank alone (the dense CEA's windows run there).
+fn assemble(solo: Comm<'_>, args: &AssembleArgs) -> Result<(), StudyError> {
     if args
         .friction
         .iter()
@@ -103,6 +106,7 @@ fn assemble(args: &AssembleArgs) -> Result<(), StudyError> {
     );
     let mut points = Vec::new();
     let mut start = se.equilibrium.clone();
+    let mut expected_modes = None;
     for &mu in &args.friction {
         let t = Instant::now();
         let dense = |source| StudyError::DenseAssembly { mu, source };
@@ -111,8 +115,10 @@ fn assemble(args: &AssembleArgs) -> Result<(), StudyError> {
             .map_err(dense)?;
         let static_seconds = t.elapsed().as_secs_f64();
         let t = Instant::now();
+        let solver = DenseEigensolver::choose(se.header.size, solo, expected_modes);
         let cea = assembly
-            .cea(
+            .cea_by(
+                solver,
                 &statics.q,
                 mu,
                 &DenseCeaOptions {
@@ -125,6 +131,7 @@ fn assemble(args: &AssembleArgs) -> Result<(), StudyError> {
             )
             .map_err(dense)?;
         let cea_seconds = t.elapsed().as_secs_f64();
+        expected_modes = Some(cea.modes.len());
         let worst = cea
             .modes
             .iter()

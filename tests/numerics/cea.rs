@@ -35,6 +35,12 @@ pub const CHECKS: &[Check] = &[
         agreement: 1e-10,
     },
     Check {
+        name: "dense_windows_find_the_band_of_a_dense_pencil_as_every_eigenvalue_does",
+        run: dense_windows,
+        ranks: &[1, 2],
+        agreement: 1e-9,
+    },
+    Check {
         name: "damping_moves_the_threshold_as_the_closed_form_says",
         run: damped_threshold,
         ranks: &[1, 2],
@@ -274,4 +280,129 @@ fn damped_threshold(rt: &Runtime) -> Result<Vec<f64>, String> {
         }
     }
     Ok(out)
+}
+
+/// A dense pencil with known eigenvalues, of a reduced model's kind (size 500, above
+/// [`WINDOWS_FROM`]): K = L Q A Q^T L^T, M = L L^T, with A block-diagonal (block b holds
+/// omega^2 = k_b (1 +/- 0.004 i) on two of every three blocks, a double real k_b on the
+/// third), Q orthogonal and L lower triangular, both full: the eigenvalues of (K, M) are A's.
+/// The dense CEA's windows (PETSc's dense LU under the full model's shift-and-invert windows,
+/// on this rank alone) must find every eigenvalue of the band once, to 1e-9 of its modulus
+/// (the windows' tolerance 1e-10 over a well-conditioned basis), with the same
+/// classification as faer's every-eigenvalue path, and eigenvectors to a backward error of
+/// 1e-10 (faer's: 1e-15; SLEPc's relative error 1e-10 bounds it).
+fn dense_windows(rt: &Runtime) -> Result<Vec<f64>, String> {
+    use faer::Mat;
+    use squeal::reduce::dense_cea::{
+        dense_cea, dense_cea_by, DenseCeaOptions, DenseEigensolver, WINDOWS_FROM,
+    };
+    let n = 500;
+    if n < WINDOWS_FROM {
+        return Err(format!("size {n} is below the windows' {WINDOWS_FROM}"));
+    }
+    let mut seed = 0x5eed_u64;
+    let mut random = move || {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+    };
+    let blocks = n / 2;
+    let kk = |b: usize| (2.0 * PI * (80.0 + 20.0 * b as f64)).powi(2);
+    let cc = |b: usize| if b % 3 == 2 { 0.0 } else { 0.004 * kk(b) };
+    let mut a = Mat::<f64>::zeros(n, n);
+    for b in 0..blocks {
+        let (i, j) = (2 * b, 2 * b + 1);
+        a[(i, i)] = kk(b);
+        a[(j, j)] = kk(b);
+        a[(i, j)] = cc(b);
+        a[(j, i)] = -cc(b);
+    }
+    let q = Mat::<f64>::from_fn(n, n, |_, _| random()).qr().compute_Q();
+    let l = Mat::<f64>::from_fn(n, n, |i, j| match i.cmp(&j) {
+        std::cmp::Ordering::Equal => 1.0 + 0.5 * random().abs(),
+        std::cmp::Ordering::Greater => 0.2 * random() / (n as f64).sqrt(),
+        std::cmp::Ordering::Less => 0.0,
+    });
+    let lq = &l * &q;
+    let k = &lq * &a * lq.transpose();
+    let m = &l * l.transpose();
+    let f_max = 2_000.0;
+    let options = DenseCeaOptions {
+        max_frequency_hz: f_max,
+        ..Default::default()
+    };
+    let solver = DenseEigensolver::Windows {
+        solo: rt.self_comm(),
+        expected_modes: None,
+    };
+    let windows = dense_cea_by(solver, k.as_ref(), m.as_ref(), &options).map_err(e)?;
+    let every = dense_cea(k.as_ref(), m.as_ref(), &options).map_err(e)?;
+    let exact: Vec<Complex64> = (0..blocks)
+        .flat_map(|b| {
+            [
+                cea::lambda_of(Complex64::new(kk(b), cc(b))),
+                cea::lambda_of(Complex64::new(kk(b), -cc(b))),
+            ]
+        })
+        .filter(|l| l.im / (2.0 * PI) <= f_max)
+        .collect();
+    for (name, found) in [("windows", &windows), ("every", &every)] {
+        if found.modes.len() != exact.len() {
+            return Err(format!(
+                "{name}: {} modes, {} in the band",
+                found.modes.len(),
+                exact.len()
+            ));
+        }
+        for x in &exact {
+            let near = |l: Complex64| (l - x).norm() < 1e-9 * x.norm();
+            let want = exact.iter().filter(|y| near(**y)).count();
+            let got = found.modes.iter().filter(|m| near(m.lambda)).count();
+            if want != got {
+                return Err(format!(
+                    "{name}: lambda {x} found {got} times, expected {want}"
+                ));
+            }
+        }
+    }
+    // Both sorted by frequency: mode by mode, the same eigenvalue and the same flags.
+    for (w, v) in windows.modes.iter().zip(&every.modes) {
+        if (w.lambda - v.lambda).norm() > 1e-9 * v.lambda.norm()
+            || w.unstable != v.unstable
+            || w.rigid_body != v.rigid_body
+        {
+            return Err(format!("windows {w:?} against every {v:?}"));
+        }
+        if w.residual > 1e-10 {
+            return Err(format!("windows' backward error {:e} at {w:?}", w.residual));
+        }
+    }
+    let unstable = windows.modes.iter().filter(|m| m.unstable).count();
+    if unstable == 0 || unstable == windows.modes.len() {
+        return Err(format!(
+            "{unstable} unstable of {}: the band should hold both",
+            windows.modes.len()
+        ));
+    }
+    let worst = windows.modes.iter().map(|m| m.residual).fold(0.0, f64::max);
+    if rt.world().rank() == 0 {
+        eprintln!(
+            "dense windows: {} modes below {f_max} Hz ({unstable} unstable) as every eigenvalue \
+             and the closed form; largest backward error {worst:.1e}",
+            windows.modes.len()
+        );
+    }
+    // Shapes normalised as faer's are: largest component 1 + 0i.
+    for shape in &windows.shapes {
+        let big = shape.iter().map(|z| z.norm()).fold(0.0, f64::max);
+        if (big - 1.0).abs() > 1e-14 || shape.len() != n {
+            return Err(format!("a shape of {} entries, largest {big}", shape.len()));
+        }
+    }
+    Ok(windows
+        .modes
+        .iter()
+        .flat_map(|m| [m.lambda.re, m.lambda.im])
+        .collect())
 }

@@ -13,7 +13,8 @@ use super::SuperElementModel;
 use crate::analysis::statics;
 use crate::petsc::Comm;
 use crate::reduce::assembly::{
-    Assembly, AssemblyError, DenseCeaOptions, DenseCeaResult, ReducedStatic, StaticOptions,
+    Assembly, AssemblyError, DenseCeaOptions, DenseCeaResult, DenseEigensolver, ReducedStatic,
+    StaticOptions,
 };
 use crate::reduce::dense_path::DenseState;
 use crate::study::report::collective;
@@ -117,7 +118,9 @@ impl<'rt> SuperElementModel<'rt> {
                 // that slipped stays slipping, with the full stick stiffness across).
                 let assembly = assembly.with_history(statics.anchors())?;
                 let t = Instant::now();
-                let cea = assembly.cea(
+                let solver = DenseEigensolver::choose(n, self.solo, self.dense_modes);
+                let cea = assembly.cea_by(
+                    solver,
                     &statics.q,
                     mu,
                     &DenseCeaOptions {

@@ -110,6 +110,10 @@ pub struct SuperElementModel<'rt> {
     built: usize,
     /// The last build's fixed-interface mode count: the next build's first guess.
     interior_modes: Option<usize>,
+    /// This rank alone: the dense CEA's windows run on rank 0's own PETSc objects.
+    solo: Comm<'rt>,
+    /// The last dense CEA's mode count: the next one's first window covers it.
+    dense_modes: Option<usize>,
     mesh_hash: String,
     study_hash: String,
 }
@@ -137,8 +141,12 @@ struct Choice {
 
 impl<'rt> SuperElementModel<'rt> {
     /// The reduced-interface model of a sweep whose `[reduction]` asks for super-elements.
-    /// Collective.
-    pub fn from_settings(comm: Comm<'rt>, sweep: &SweepSettings) -> Result<Self, StudyError> {
+    /// Collective over `comm`; `solo` is this rank alone (where the dense CEA's windows run).
+    pub fn from_settings(
+        comm: Comm<'rt>,
+        solo: Comm<'rt>,
+        sweep: &SweepSettings,
+    ) -> Result<Self, StudyError> {
         let file = sweep.source;
         let reduction = sweep
             .reduction
@@ -201,6 +209,8 @@ impl<'rt> SuperElementModel<'rt> {
             previous_q: None,
             built: 0,
             interior_modes: None,
+            solo,
+            dense_modes: None,
         })
     }
 
@@ -587,6 +597,7 @@ impl<'rt> FrictionModel<'rt> for SuperElementModel<'rt> {
         let t = Instant::now();
         let choice = self.choose(comm, mu)?;
         let dense = self.dense(comm, mu, choice.anchored)?;
+        self.dense_modes = Some(dense.lambdas.len());
         self.carry(mu, &dense);
 
         // Expansion (u = T q) of the static and every mode, and each mode's residual in the

@@ -1,0 +1,111 @@
+//! How long the dense CEA of a reduced model takes, by faer's every-eigenvalue solve and by
+//! the band's shift-and-invert windows (`squeal::reduce::dense_cea`), interleaved, medians of
+//! three. Run it on an idle machine with
+//!
+//!     cargo run --release --example dense_cea_bench
+//!
+//! The pencils have the spectrum of a super-element: known eigenvalues from 300 Hz up to
+//! 300 kHz, evenly in frequency, so that the 0-10 kHz band holds about 3 % of them (small-
+//! caliper's super-element of size 1,801: 56 modes); two blocks in three are friction-coupled
+//! pairs omega^2 = k (1 +/- 0.004 i). K = L Q A Q^T L^T, M = L L^T with Q orthogonal and L
+//! lower triangular, both full. Every size's band is checked: both ways give the same count.
+//! One process, no MPI launcher needed.
+
+use faer::Mat;
+use squeal::petsc::{Runtime, RuntimeOptions};
+use squeal::reduce::dense_cea::{dense_cea, dense_cea_by, DenseCeaOptions, DenseEigensolver};
+use std::f64::consts::PI;
+use std::process::ExitCode;
+use std::time::Instant;
+
+fn pencil(n: usize) -> (Mat<f64>, Mat<f64>) {
+    let mut seed = 12345u64;
+    let mut random = move || {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+    };
+    let blocks = n / 2;
+    let kk = |b: usize| (2.0 * PI * (300.0 + 300_000.0 * (b as f64 / blocks as f64))).powi(2);
+    let cc = |b: usize| if b % 3 == 2 { 0.0 } else { 0.004 * kk(b) };
+    let mut a = Mat::<f64>::zeros(n, n);
+    for b in 0..blocks {
+        let (i, j) = (2 * b, 2 * b + 1);
+        a[(i, i)] = kk(b);
+        a[(j, j)] = kk(b);
+        a[(i, j)] = cc(b);
+        a[(j, i)] = -cc(b);
+    }
+    let q = Mat::<f64>::from_fn(n, n, |_, _| random()).qr().compute_Q();
+    let l = Mat::<f64>::from_fn(n, n, |i, j| match i.cmp(&j) {
+        std::cmp::Ordering::Equal => 1.0 + 0.5 * random().abs(),
+        std::cmp::Ordering::Greater => 0.2 * random() / (n as f64).sqrt(),
+        std::cmp::Ordering::Less => 0.0,
+    });
+    let lq = &l * &q;
+    (&lq * &a * lq.transpose(), &l * l.transpose())
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+fn main() -> ExitCode {
+    let rt = match Runtime::init(&RuntimeOptions::default()) {
+        Ok(rt) => rt,
+        Err(e) => {
+            eprintln!("PETSc: {e}");
+            return ExitCode::FAILURE;
+        }
+    };
+    let options = DenseCeaOptions {
+        max_frequency_hz: 10_000.0,
+        ..Default::default()
+    };
+    println!("  size  modes   every (s)   windows (s)   windows, count known (s)");
+    for n in [200, 400, 800, 1200, 1800] {
+        let (k, m) = pencil(n);
+        let (mut every, mut windows, mut hinted) = (Vec::new(), Vec::new(), Vec::new());
+        let mut counts = (0, 0, 0);
+        for _ in 0..3 {
+            let t = Instant::now();
+            let all = dense_cea(k.as_ref(), m.as_ref(), &options);
+            every.push(t.elapsed().as_secs_f64());
+            let by = |expected_modes| {
+                let solver = DenseEigensolver::Windows {
+                    solo: rt.self_comm(),
+                    expected_modes,
+                };
+                let t = Instant::now();
+                let found = dense_cea_by(solver, k.as_ref(), m.as_ref(), &options);
+                (found, t.elapsed().as_secs_f64())
+            };
+            let (band, seconds) = by(None);
+            windows.push(seconds);
+            let known = band.as_ref().map(|b| b.modes.len()).ok();
+            let (again, seconds) = by(known);
+            hinted.push(seconds);
+            match (all, band, again) {
+                (Ok(a), Ok(b), Ok(c)) => counts = (a.modes.len(), b.modes.len(), c.modes.len()),
+                (a, b, c) => {
+                    eprintln!("size {n}: {:?} / {:?} / {:?}", a.err(), b.err(), c.err());
+                    return ExitCode::FAILURE;
+                }
+            }
+        }
+        if counts.0 != counts.1 || counts.0 != counts.2 {
+            eprintln!("size {n}: band counts differ: {counts:?}");
+            return ExitCode::FAILURE;
+        }
+        println!(
+            "{n:>6} {:>6} {:>11.3} {:>13.3} {:>26.3}",
+            counts.0,
+            median(every),
+            median(windows),
+            median(hinted)
+        );
+    }
+    ExitCode::SUCCESS
+}
