@@ -192,6 +192,26 @@ impl<'rt> DenseMatrix<'rt> {
         })
     }
 
+    /// `f` on this rank's rows read in place, as a `local_rows x cols` faer view (no copy:
+    /// for products over bases of hundreds of megabytes).
+    pub fn with_local<R>(&self, f: impl FnOnce(faer::MatRef<'_, f64>) -> R) -> Result<R> {
+        let local = self.local()?;
+        if local.rows == 0 || local.cols == 0 {
+            return Ok(f(faer::MatRef::from_column_major_slice(
+                &[],
+                local.rows,
+                local.cols,
+            )));
+        }
+        let len = (local.cols - 1) * local.lda + local.rows;
+        // SAFETY: PETSc holds rows x cols entries at stride lda >= rows from `ptr`, readable
+        // until `local` restores them (after `f` returns: the view cannot outlive it).
+        let slice = unsafe { std::slice::from_raw_parts(local.ptr, len) };
+        Ok(f(faer::MatRef::from_column_major_slice_with_stride(
+            slice, local.rows, local.cols, local.lda,
+        )))
+    }
+
     /// This rank's rows, as a `local_rows x cols` faer matrix.
     pub fn local_values(&self) -> Result<Mat<f64>> {
         let local = self.local()?;

@@ -441,6 +441,40 @@ impl<'rt> Matrix<'rt> {
         let at = self.mult_dense(t)?;
         t.transpose_mult(&at)
     }
+
+    /// [`Self::project`] for a symmetric self: T^T (A T) block column by block column, the
+    /// blocks on and below the diagonal only (half the products), mirrored; the ranks'
+    /// pieces summed with the same bits on every rank. Exactly symmetric. Collective.
+    pub fn project_symmetric(&self, t: &DenseMatrix<'rt>) -> Result<faer::Mat<f64>> {
+        // Wide enough for matrix-product speed, narrow enough that the skipped upper blocks
+        // are most of the upper triangle.
+        const BLOCK: usize = 128;
+        let at = self.mult_dense(t)?;
+        let n = t.size()?.1;
+        let mut lower = faer::Mat::<f64>::zeros(n, n);
+        t.with_local(|tl| {
+            at.with_local(|al| {
+                for b0 in (0..n).step_by(BLOCK) {
+                    let width = BLOCK.min(n - b0);
+                    faer::linalg::matmul::matmul(
+                        lower.as_mut().submatrix_mut(b0, b0, n - b0, width),
+                        faer::Accum::Replace,
+                        tl.subcols(b0, n - b0).transpose(),
+                        al.subcols(b0, width),
+                        1.0,
+                        faer::Par::Seq,
+                    );
+                }
+            })
+        })??;
+        drop(at);
+        let mut values: std::vec::Vec<f64> = (0..n)
+            .flat_map(|j| (0..n).map(move |i| (i, j)))
+            .map(|(i, j)| if i >= j { lower[(i, j)] } else { lower[(j, i)] })
+            .collect();
+        t.comm().sum_identically(&mut values);
+        Ok(faer::Mat::from_fn(n, n, |i, j| values[j * n + i]))
+    }
 }
 
 impl Drop for Matrix<'_> {

@@ -95,6 +95,14 @@ impl<'rt> Comm<'rt> {
             .all_reduce_into(&local[..], values, SystemOperation::sum());
     }
 
+    /// Element-wise sum of `values` over all ranks, in place, with rank 0's bits on every
+    /// rank (collective): an all-reduce may associate the sums differently on different
+    /// ranks, and the ranks take decisions from these numbers.
+    pub fn sum_identically(&self, values: &mut Vec<f64>) {
+        self.sum_in_place(values);
+        self.broadcast_from_root(values);
+    }
+
     /// Element-wise maximum over all ranks, in place (collective).
     pub fn max_in_place(&self, values: &mut [f64]) {
         let local = values.to_vec();

@@ -1187,8 +1187,43 @@ fn projection_t_k_t(rt: &Runtime) -> Result<Vec<f64>, String> {
         let got = a.project(t).map_err(e)?;
         check_projection(name, &got, &a_dense, t_all)?;
         out.extend(flatten(&got));
+        // The symmetric one: the same bound, and exactly symmetric.
+        let half = a.project_symmetric(t).map_err(e)?;
+        check_projection(&format!("{name} (symmetric)"), &half, &a_dense, t_all)?;
+        check_symmetric(name, &half)?;
+        out.extend(flatten(&half));
     }
+    // More columns than the symmetric projection's block (128): its blocks below the
+    // diagonal, and the mirrored ones above, against the dense product.
+    let wide = 2 * 128 + 17;
+    let mut t = DenseMatrix::zeros(comm, hi - lo, wide).map_err(e)?;
+    t.write_local(|i, j| basis(lo + i, j)).map_err(e)?;
+    let t_all = Mat::from_fn(el.n, wide, basis);
+    let half = el.mass.project_symmetric(&t).map_err(e)?;
+    check_projection(
+        "T^T M T (symmetric, 273 columns)",
+        &half,
+        &el.mass_dense,
+        &t_all,
+    )?;
+    check_symmetric("T^T M T", &half)?;
+    out.extend(flatten(&half));
     Ok(out)
+}
+
+fn check_symmetric(name: &str, a: &Mat<f64>) -> Result<(), String> {
+    for j in 0..a.ncols() {
+        for i in 0..j {
+            if a[(i, j)] != a[(j, i)] {
+                return Err(format!(
+                    "{name}: [{i},{j}] = {} but [{j},{i}] = {}",
+                    a[(i, j)],
+                    a[(j, i)]
+                ));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Checks `got` = T^T A T entry by entry against the dense product of the same numbers.
