@@ -64,47 +64,38 @@ fn main() -> ExitCode {
         max_frequency_hz: 10_000.0,
         ..Default::default()
     };
-    println!("  size  modes   every (s)   windows (s)   windows, count known (s)");
+    println!("  size  modes   every (s)   windows (s)");
     for n in [200, 400, 800, 1200, 1800] {
         let (k, m) = pencil(n);
-        let (mut every, mut windows, mut hinted) = (Vec::new(), Vec::new(), Vec::new());
-        let mut counts = (0, 0, 0);
+        let (mut every, mut windows) = (Vec::new(), Vec::new());
+        let mut counts = (0, 0);
         for _ in 0..3 {
             let t = Instant::now();
             let all = dense_cea(k.as_ref(), m.as_ref(), &options);
             every.push(t.elapsed().as_secs_f64());
-            let by = |expected_modes| {
-                let solver = DenseEigensolver::Windows {
-                    solo: rt.self_comm(),
-                    expected_modes,
-                };
-                let t = Instant::now();
-                let found = dense_cea_by(solver, k.as_ref(), m.as_ref(), &options);
-                (found, t.elapsed().as_secs_f64())
+            let solver = DenseEigensolver::Windows {
+                solo: rt.self_comm(),
             };
-            let (band, seconds) = by(None);
-            windows.push(seconds);
-            let known = band.as_ref().map(|b| b.modes.len()).ok();
-            let (again, seconds) = by(known);
-            hinted.push(seconds);
-            match (all, band, again) {
-                (Ok(a), Ok(b), Ok(c)) => counts = (a.modes.len(), b.modes.len(), c.modes.len()),
-                (a, b, c) => {
-                    eprintln!("size {n}: {:?} / {:?} / {:?}", a.err(), b.err(), c.err());
+            let t = Instant::now();
+            let band = dense_cea_by(solver, k.as_ref(), m.as_ref(), &options);
+            windows.push(t.elapsed().as_secs_f64());
+            match (all, band) {
+                (Ok(a), Ok(b)) => counts = (a.modes.len(), b.modes.len()),
+                (a, b) => {
+                    eprintln!("size {n}: {:?} / {:?}", a.err(), b.err());
                     return ExitCode::FAILURE;
                 }
             }
         }
-        if counts.0 != counts.1 || counts.0 != counts.2 {
+        if counts.0 != counts.1 {
             eprintln!("size {n}: band counts differ: {counts:?}");
             return ExitCode::FAILURE;
         }
         println!(
-            "{n:>6} {:>6} {:>11.3} {:>13.3} {:>26.3}",
+            "{n:>6} {:>6} {:>11.3} {:>13.3}",
             counts.0,
             median(every),
-            median(windows),
-            median(hinted)
+            median(windows)
         );
     }
     ExitCode::SUCCESS

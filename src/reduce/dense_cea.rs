@@ -9,10 +9,9 @@
 //! Krylov-Schur's solves of n^2 each). A super-element's band holds a few per cent of its
 //! modes (small-caliper, every pair on the boundary: 56 of 1,801 below 10 kHz), so the
 //! windows pay from a few hundred on: `examples/dense_cea_bench.rs`, medians of three,
-//! interleaved, on pencils of that spectrum: size 400 0.053 s every / 0.009 s windows, 800
-//! 0.244 / 0.056, 1,200 0.604 / 0.243, 1,800 1.63 / 1.41 (0.88 with the previous point's
-//! count). In small-caliper's sweep the dense CEA went from 1.9-2.1 s to 1.2 s at the first
-//! point and 0.7 s at the next.
+//! interleaved, on pencils of that spectrum: size 400 0.056 s every / 0.010 s windows, 800
+//! 0.247 / 0.040, 1,200 0.606 / 0.298, 1,800 1.71 / 1.28. In small-caliper's nine-value
+//! sweep the dense CEA went from 1.9-2.1 s to 1.0-1.3 s a point.
 
 use super::assembly::AssemblyError;
 use crate::analysis::cea::{
@@ -60,6 +59,18 @@ pub struct DenseCeaResult {
 /// steps through no windows, is kept.
 pub const WINDOWS_FROM: usize = 400;
 
+/// The windows' SLEPc tolerance. A converged pair's relative error |K x - lambda M x| /
+/// |lambda x| is bounded by tol |K - sigma M| / |lambda| (the test is on the inverted
+/// problem), and a reduced model's |K| is that of its stiffest boundary coordinates (its
+/// spectrum reaches hundreds of kHz). Two more orders than the sparse CEA's cost no
+/// measurable time on these sizes. The band's first window is always at 0 Hz (no count
+/// from the previous point, which would put one window at 0.6 of the band's top): on
+/// small-caliper's super-element that window left the 447 Hz mode at 1.7e-6 and 2.4e-6
+/// with 1e-10 and up to 4.1e-7 with 1e-12, against the CEA's bound of 1e-6; from 0 Hz every
+/// point's worst was 4e-12 to 2.6e-11 (backward errors 2e-15 to 2e-14), for 1.0-1.3 s
+/// instead of 0.8 s a point.
+pub const WINDOWS_TOLERANCE: f64 = 1e-12;
+
 /// How the dense CEA finds its eigenvalues.
 #[derive(Clone, Copy)]
 pub enum DenseEigensolver<'rt> {
@@ -67,24 +78,16 @@ pub enum DenseEigensolver<'rt> {
     Every,
     /// The full model's CEA ([`crate::analysis::cea::undamped`]) on PETSc dense copies of
     /// K and M on this rank alone: shift-and-invert windows over the band only, each one
-    /// LAPACK LU (2/3 n^3) and Krylov-Schur's solves (n^2 each).
-    Windows {
-        /// A communicator of this one rank.
-        solo: Comm<'rt>,
-        /// The band's mode count when known (the previous point's): one window then
-        /// covers it ([`CeaOptions::expected_modes`]).
-        expected_modes: Option<usize>,
-    },
+    /// LAPACK LU (2/3 n^3) and Krylov-Schur's solves (n^2 each). `solo` is a communicator
+    /// of this one rank.
+    Windows { solo: Comm<'rt> },
 }
 
 impl<'rt> DenseEigensolver<'rt> {
     /// [`Self::Windows`] from [`WINDOWS_FROM`] on, [`Self::Every`] below.
-    pub fn choose(size: usize, solo: Comm<'rt>, expected_modes: Option<usize>) -> Self {
+    pub fn choose(size: usize, solo: Comm<'rt>) -> Self {
         if size >= WINDOWS_FROM {
-            DenseEigensolver::Windows {
-                solo,
-                expected_modes,
-            }
+            DenseEigensolver::Windows { solo }
         } else {
             DenseEigensolver::Every
         }
@@ -100,11 +103,7 @@ pub fn dense_cea_by(
     mass: MatRef<'_, f64>,
     options: &DenseCeaOptions,
 ) -> Result<DenseCeaResult, AssemblyError> {
-    let DenseEigensolver::Windows {
-        solo,
-        expected_modes,
-    } = solver
-    else {
+    let DenseEigensolver::Windows { solo } = solver else {
         return dense_cea(stiffness, mass, options);
     };
     check_input(stiffness, mass, options)?;
@@ -120,7 +119,7 @@ pub fn dense_cea_by(
             max_frequency_hz: options.max_frequency_hz,
             unstable_threshold: options.unstable_threshold,
             expected_rigid_modes: options.expected_rigid_modes,
-            expected_modes,
+            tolerance: WINDOWS_TOLERANCE,
             linear: LinearMethod::Direct {
                 package: DirectPackage::Petsc,
                 factorization: Factorization::Lu,
@@ -129,6 +128,7 @@ pub fn dense_cea_by(
         },
     )
     .map_err(|e| AssemblyError::Eigen(format!("the dense CEA's windows on size {n}: {e}")))?;
+    let relative = found.modes.iter().map(|m| m.residual).fold(0.0, f64::max);
     let (k_norm, m_norm) = (frobenius(stiffness), frobenius(mass));
     let mut modes = Vec::with_capacity(found.modes.len());
     let mut shapes = Vec::with_capacity(found.modes.len());
@@ -155,6 +155,12 @@ pub fn dense_cea_by(
         modes.push(ComplexMode { residual, ..mode });
         shapes.push(shape);
     }
+    let backward = modes.iter().map(|m| m.residual).fold(0.0, f64::max);
+    tracing::debug!(
+        "dense CEA's windows, size {n}: {} modes, largest relative error {relative:.1e} \
+         (SLEPc's), largest backward error {backward:.1e}",
+        modes.len()
+    );
     Ok(DenseCeaResult { modes, shapes })
 }
 

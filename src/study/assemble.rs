@@ -106,7 +106,6 @@ fn assemble(solo: Comm<'_>, args: &AssembleArgs) -> Result<(), StudyError> {
     );
     let mut points = Vec::new();
     let mut start = se.equilibrium.clone();
-    let mut expected_modes = None;
     for &mu in &args.friction {
         let t = Instant::now();
         let dense = |source| StudyError::DenseAssembly { mu, source };
@@ -115,7 +114,7 @@ fn assemble(solo: Comm<'_>, args: &AssembleArgs) -> Result<(), StudyError> {
             .map_err(dense)?;
         let static_seconds = t.elapsed().as_secs_f64();
         let t = Instant::now();
-        let solver = DenseEigensolver::choose(se.header.size, solo, expected_modes);
+        let solver = DenseEigensolver::choose(se.header.size, solo);
         let cea = assembly
             .cea_by(
                 solver,
@@ -131,7 +130,6 @@ fn assemble(solo: Comm<'_>, args: &AssembleArgs) -> Result<(), StudyError> {
             )
             .map_err(dense)?;
         let cea_seconds = t.elapsed().as_secs_f64();
-        expected_modes = Some(cea.modes.len());
         let worst = cea
             .modes
             .iter()

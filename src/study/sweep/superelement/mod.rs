@@ -112,8 +112,6 @@ pub struct SuperElementModel<'rt> {
     interior_modes: Option<usize>,
     /// This rank alone: the dense CEA's windows run on rank 0's own PETSc objects.
     solo: Comm<'rt>,
-    /// The last dense CEA's mode count: the next one's first window covers it.
-    dense_modes: Option<usize>,
     mesh_hash: String,
     study_hash: String,
 }
@@ -210,7 +208,6 @@ impl<'rt> SuperElementModel<'rt> {
             built: 0,
             interior_modes: None,
             solo,
-            dense_modes: None,
         })
     }
 
@@ -597,7 +594,6 @@ impl<'rt> FrictionModel<'rt> for SuperElementModel<'rt> {
         let t = Instant::now();
         let choice = self.choose(comm, mu)?;
         let dense = self.dense(comm, mu, choice.anchored)?;
-        self.dense_modes = Some(dense.lambdas.len());
         self.carry(mu, &dense);
 
         // Expansion (u = T q) of the static and every mode, and each mode's residual in the
