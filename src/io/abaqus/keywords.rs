@@ -70,8 +70,63 @@ pub(super) fn refused(name: &str) -> Option<&'static str> {
              interaction's mu itself)"
         }
         "MODELCHANGE" => "removing or adding elements or contact pairs in a step is not supported",
+        "TIE" => {
+            "tied surfaces are not supported yet, and skipping the tie would leave the tied \
+             parts apart (a clamped model with free-floating pads): merge the meshes at the \
+             interface, or write the tie as *EQUATION or *COUPLING, KINEMATIC"
+        }
         _ => return None,
     })
+}
+
+/// Keywords read past with their data lines because they cannot change the model squeal
+/// solves: output, print and restart requests, preprocessor printing, and solver controls
+/// (which change how a solver converges, not what it converges to); definitions that act
+/// only through something squeal refuses or does not have (`*AMPLITUDE` through an
+/// `AMPLITUDE=` on a load, refused there; `*ORIENTATION` on an isotropic material;
+/// `*EXPANSION` without a temperature field; `*PHYSICAL CONSTANTS`). They are listed in one
+/// warning. Every other keyword squeal does not read stops the run at its line: skipping
+/// one that changes the physics (a tie, damping, an initial stress) would report a wrong
+/// result as a success.
+pub(super) fn ignored(name: &str) -> bool {
+    matches!(
+        name,
+        "OUTPUT"
+            | "NODEOUTPUT"
+            | "ELEMENTOUTPUT"
+            | "CONTACTOUTPUT"
+            | "SURFACEOUTPUT"
+            | "INTEGRATEDOUTPUT"
+            | "ENERGYOUTPUT"
+            | "MODALOUTPUT"
+            | "NODEFILE"
+            | "ELFILE"
+            | "ELEMENTFILE"
+            | "CONTACTFILE"
+            | "SECTIONFILE"
+            | "MODALFILE"
+            | "NODEPRINT"
+            | "ELPRINT"
+            | "ELEMENTPRINT"
+            | "CONTACTPRINT"
+            | "ENERGYPRINT"
+            | "SECTIONPRINT"
+            | "FACEPRINT"
+            | "MODALPRINT"
+            | "PRINT"
+            | "PREPRINT"
+            | "RESTART"
+            | "MONITOR"
+            | "FILEFORMAT"
+            | "OUTPUTDIRECTORY"
+            | "CONTROLS"
+            | "SOLVERCONTROLS"
+            | "DIAGNOSTICS"
+            | "AMPLITUDE"
+            | "ORIENTATION"
+            | "EXPANSION"
+            | "PHYSICALCONSTANTS"
+    )
 }
 
 impl Reader {
@@ -198,6 +253,7 @@ impl Reader {
                 Block::ComplexFrequency { lines: 0 }
             }
             "BOUNDARY" => {
+                self.no_amplitude(&mut kw)?;
                 if let Some(t) = self.param(&mut kw, "TYPE")? {
                     if !t.eq_ignore_ascii_case("DISPLACEMENT") {
                         return Err(self.err(
@@ -223,18 +279,21 @@ impl Reader {
                 Block::Boundary { fixed }
             }
             "CLOAD" => {
+                self.no_amplitude(&mut kw)?;
                 if self.op_new(&mut kw)? {
                     self.replaced(|r| r.concentrated_loads = true);
                 }
                 Block::ConcentratedLoad
             }
             "DSLOAD" => {
+                self.no_amplitude(&mut kw)?;
                 if self.op_new(&mut kw)? {
                     self.replaced(|r| r.surface_pressures = true);
                 }
                 Block::SurfacePressure
             }
             "DLOAD" => {
+                self.no_amplitude(&mut kw)?;
                 if self.op_new(&mut kw)? {
                     self.replaced(|r| r.element_pressures = true);
                 }
@@ -253,6 +312,17 @@ impl Reader {
             name => {
                 if let Some(why) = refused(name) {
                     return Err(self.err(kw.loc, format!("{}: {why}", kw.display)));
+                }
+                if !ignored(name) {
+                    return Err(self.err(
+                        kw.loc,
+                        format!(
+                            "{}: squeal does not read this keyword, and skipping it could \
+                             change the model it solves (only output and print requests, \
+                             restart requests and solver controls are read past)",
+                            kw.display
+                        ),
+                    ));
                 }
                 self.unknown_keywords.add(&kw.display, kw.loc);
                 self.block = Block::Skip;
@@ -302,6 +372,24 @@ impl Reader {
                 | "DSLOAD"
                 | "DLOAD"
         ) || OTHER_PROCEDURES.contains(&name)
+    }
+
+    /// `AMPLITUDE=` on a load or a prescribed displacement: its value at the step's end
+    /// scales the magnitude, and squeal applies the magnitude as written (skipping the
+    /// parameter would change the load).
+    fn no_amplitude(&self, kw: &mut Keyword) -> Result<(), MeshError> {
+        match self.param(kw, "AMPLITUDE")? {
+            Some(a) => Err(self.err(
+                kw.loc,
+                format!(
+                    "{}, AMPLITUDE={a}: amplitudes are not supported (squeal applies the \
+                     magnitude written on the data lines at the end of the step); scale the \
+                     magnitudes by the amplitude's value there and remove AMPLITUDE=",
+                    kw.display
+                ),
+            )),
+            None => Ok(()),
+        }
     }
 
     fn note_unused_parameters(&mut self, kw: &Keyword) {
@@ -722,19 +810,70 @@ mod tests {
     }
 
     #[test]
-    fn unknown_keywords_are_skipped_and_listed_in_one_warning() {
+    fn output_requests_are_read_past_and_listed_in_one_warning() {
         let text = format!(
-            "{}*TIE, NAME=GLUE\nPAD, DISC\n*STEP\n*STATIC\n*OUTPUT, FIELD\n\
-             *NODE OUTPUT\nU\n*OUTPUT, HISTORY\n*END STEP\n",
+            "{}*STEP\n*STATIC\n*OUTPUT, FIELD\n*NODE OUTPUT\nU\n*OUTPUT, HISTORY\n\
+             *NODE FILE\nU\n*CONTROLS, PARAMETERS=TIME INCREMENTATION\n4, 8\n*END STEP\n",
             one_tet()
         );
-        let deck = read_text("unknown", &text).unwrap();
+        let deck = read_text("outputs", &text).unwrap();
         assert_eq!(deck.warnings.len(), 1, "{:?}", deck.warnings);
         let w = &deck.warnings[0];
-        assert!(w.contains("*TIE (1x, first at "), "{w}");
         assert!(w.contains("*OUTPUT (2x, first at "), "{w}");
         assert!(w.contains("*NODE OUTPUT (1x"), "{w}");
+        assert!(w.contains("*NODE FILE (1x"), "{w}");
+        assert!(w.contains("*CONTROLS (1x"), "{w}");
         assert!(w.contains("deck.inp:"), "{w}");
+    }
+
+    /// A keyword squeal does not read may change the physics (a tie, damping, an initial
+    /// stress): it stops the run at its line, named, whatever it is (issue 34).
+    #[test]
+    fn keywords_that_could_change_the_model_stop_the_run_at_their_line() {
+        for (keyword, said) in [
+            (
+                "*TIE, NAME=GLUE\nPAD, DISC\n",
+                "tied surfaces are not supported",
+            ),
+            (
+                "*DAMPING, ALPHA=2.0\n",
+                "*DAMPING: squeal does not read this keyword",
+            ),
+            (
+                "*INITIAL CONDITIONS, TYPE=STRESS\nEALL, 1e6, 0, 0, 0, 0, 0\n",
+                "*INITIAL CONDITIONS: squeal does not read",
+            ),
+            (
+                "*SHELL SECTION, ELSET=EALL, MATERIAL=STEEL\n0.002\n",
+                "*SHELL SECTION",
+            ),
+        ] {
+            let text = format!("{}{keyword}", one_tet());
+            let line = text.lines().count() - keyword.lines().count() + 1;
+            let e = read_text("refused", &text).unwrap_err().to_string();
+            assert!(e.contains(said), "{keyword}: {e}");
+            assert!(e.contains(&format!("deck.inp:{line}")), "{keyword}: {e}");
+        }
+    }
+
+    #[test]
+    fn an_amplitude_on_a_load_is_refused_where_it_is_written() {
+        let text = format!(
+            "{}*AMPLITUDE, NAME=RAMP\n0, 0, 1, 0.5\n*STEP\n*STATIC\n*CLOAD, AMPLITUDE=RAMP\n\
+             11, 3, -10.0\n*END STEP\n",
+            one_tet()
+        );
+        let e = read_text("amplitude", &text).unwrap_err().to_string();
+        assert!(e.contains("*CLOAD, AMPLITUDE=RAMP"), "{e}");
+        assert!(e.contains("amplitudes are not supported"), "{e}");
+        // The definition alone is harmless: read past, said.
+        let text = format!(
+            "{}*AMPLITUDE, NAME=RAMP\n0, 0, 1, 0.5\n*STEP\n*STATIC\n*CLOAD\n11, 3, -10.0\n\
+             *END STEP\n",
+            one_tet()
+        );
+        let deck = read_text("amplitude", &text).unwrap();
+        assert!(deck.warnings.iter().any(|w| w.contains("*AMPLITUDE (1x")));
     }
 
     #[test]

@@ -174,7 +174,7 @@ mod tests {
             "*node, nset=All\n{}*Element, Type=c3d10, Elset=Body\n{}*material, name=Iron\n\
              *elastic, type=Isotropic\n100e9, 0.25\n*density\n7000\n\
              *Solid Section, elset=BODY, material=iron\n*boundary\nall, 1, 3\n\
-             *Solid\n*NSET,\n    NSET=Continued\nALL\n",
+             *node Print\n*NSET,\n    NSET=Continued\nALL\n",
             unit_tet_nodes(11),
             unit_tet_element(7, 11)
         );
@@ -185,7 +185,7 @@ mod tests {
         assert_eq!(deck.boundaries[0].nodes.len(), 10);
         assert_eq!(deck.mesh.node_sets["CONTINUED"].len(), 10);
         assert_eq!(deck.warnings.len(), 1, "{:?}", deck.warnings);
-        assert!(deck.warnings[0].contains("*SOLID (1x"));
+        assert!(deck.warnings[0].contains("*NODE PRINT (1x"), "{:?}", deck.warnings);
     }
 
     #[test]

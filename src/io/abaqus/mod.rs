@@ -25,12 +25,14 @@
 //! | `*COMPLEX FREQUENCY` (modes, minimum and maximum frequency, shift) | [`Procedure::ComplexFrequency`] |
 //!
 //! `INPUT=` on a data keyword (`*NODE, INPUT=nodes.inp`) reads its data lines from that file.
-//! A keyword line ending with a comma continues on the next line. Other keywords (`*OUTPUT`,
-//! `*NODE FILE`, `*TIE`, ...) are skipped with their data lines and listed, with
-//! counts and the first place each appeared, in ONE warning. Keywords that would silently change
-//! geometry or load directions if skipped (`*PART`/`*INSTANCE`, `*SYSTEM`, node and
-//! element generation, Abaqus general contact, contact clearances) are refused with an error
-//! instead.
+//! A keyword line ending with a comma continues on the next line. Keywords that cannot change
+//! the model squeal solves (output, print and restart requests, solver controls, and the
+//! definitions listed at [`keywords::ignored`]) are read past with their data lines and
+//! listed, with counts and the first place each appeared, in ONE warning. Every other keyword
+//! squeal does not read is refused at its line: skipping one could change the physics (a
+//! `*TIE` left tied pads floating free, and the run exited 0). Some carry a reason and a way
+//! out (`*TIE`, `*PART`/`*INSTANCE`, `*SYSTEM`, node and element generation, Abaqus general
+//! contact, contact clearances); the rest are named as not read.
 //!
 //! # Conventions decided here
 //!

@@ -498,7 +498,8 @@ impl Reader {
         }
         if !self.unknown_keywords.entries.is_empty() {
             front.push(format!(
-                "skipped unsupported keywords with their data lines: {}",
+                "read past (output and print requests, solver controls: they do not change \
+                 the model): {}",
                 self.unknown_keywords.describe(&self.lines)
             ));
         }
