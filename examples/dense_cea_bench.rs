@@ -11,41 +11,13 @@
 //! lower triangular, both full. Every size's band is checked: both ways give the same count.
 //! One process, no MPI launcher needed.
 
-use faer::Mat;
 use squeal::petsc::{Runtime, RuntimeOptions};
 use squeal::reduce::dense_cea::{dense_cea, dense_cea_by, DenseCeaOptions, DenseEigensolver};
-use std::f64::consts::PI;
 use std::process::ExitCode;
-use std::time::Instant;
 
-fn pencil(n: usize) -> (Mat<f64>, Mat<f64>) {
-    let mut seed = 12345u64;
-    let mut random = move || {
-        seed = seed
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-    };
-    let blocks = n / 2;
-    let kk = |b: usize| (2.0 * PI * (300.0 + 300_000.0 * (b as f64 / blocks as f64))).powi(2);
-    let cc = |b: usize| if b % 3 == 2 { 0.0 } else { 0.004 * kk(b) };
-    let mut a = Mat::<f64>::zeros(n, n);
-    for b in 0..blocks {
-        let (i, j) = (2 * b, 2 * b + 1);
-        a[(i, i)] = kk(b);
-        a[(j, j)] = kk(b);
-        a[(i, j)] = cc(b);
-        a[(j, i)] = -cc(b);
-    }
-    let q = Mat::<f64>::from_fn(n, n, |_, _| random()).qr().compute_Q();
-    let l = Mat::<f64>::from_fn(n, n, |i, j| match i.cmp(&j) {
-        std::cmp::Ordering::Equal => 1.0 + 0.5 * random().abs(),
-        std::cmp::Ordering::Greater => 0.2 * random() / (n as f64).sqrt(),
-        std::cmp::Ordering::Less => 0.0,
-    });
-    let lq = &l * &q;
-    (&lq * &a * lq.transpose(), &l * l.transpose())
-}
+#[path = "../tests/common/pencils.rs"]
+mod pencils;
+use std::time::Instant;
 
 fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);
@@ -66,7 +38,7 @@ fn main() -> ExitCode {
     };
     println!("  size  modes   every (s)   windows (s)");
     for n in [200, 400, 800, 1200, 1800] {
-        let (k, m) = pencil(n);
+        let (k, m, _) = pencils::super_element_pencil(n);
         let (mut every, mut windows) = (Vec::new(), Vec::new());
         let mut counts = (0, 0);
         for _ in 0..3 {

@@ -9,8 +9,8 @@
 //! Krylov-Schur's solves of n^2 each). A super-element's band holds a few per cent of its
 //! modes (small-caliper, every pair on the boundary: 56 of 1,801 below 10 kHz), so the
 //! windows pay from a few hundred on: `examples/dense_cea_bench.rs`, medians of three,
-//! interleaved, on pencils of that spectrum: size 400 0.056 s every / 0.010 s windows, 800
-//! 0.247 / 0.040, 1,200 0.606 / 0.298, 1,800 1.71 / 1.28. In small-caliper's nine-value
+//! interleaved, on pencils of that spectrum: size 400 0.057 s every / 0.009 s windows, 800
+//! 0.252 / 0.040, 1,200 0.602 / 0.253, 1,800 1.61 / 1.20. In small-caliper's nine-value
 //! sweep the dense CEA went from 1.9-2.1 s to 1.0-1.3 s a point.
 
 use super::assembly::AssemblyError;

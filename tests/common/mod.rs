@@ -3,6 +3,7 @@
 
 pub mod harness;
 pub mod meshes;
+pub mod pencils;
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};

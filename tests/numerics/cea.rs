@@ -282,18 +282,14 @@ fn damped_threshold(rt: &Runtime) -> Result<Vec<f64>, String> {
     Ok(out)
 }
 
-/// A dense pencil with known eigenvalues, of a reduced model's kind (size 500, above
-/// [`WINDOWS_FROM`], frequencies from 300 Hz to 300 kHz, 0-10 kHz holding 18 of them):
-/// K = L Q A Q^T L^T, M = L L^T, with A block-diagonal (block b holds omega^2 =
-/// k_b (1 +/- 0.004 i) on two of every three blocks, a double real k_b on the third), Q
-/// orthogonal and L lower triangular, both full: the eigenvalues of (K, M) are A's.
-/// The dense CEA's windows (PETSc's dense LU under the full model's shift-and-invert windows,
-/// on this rank alone) must find every eigenvalue of the band once, to 1e-9 of its modulus
-/// (the windows' tolerance 1e-10 over a well-conditioned basis), with the same
-/// classification as faer's every-eigenvalue path, and eigenvectors to a backward error of
-/// 1e-10 (faer's: 1e-15; SLEPc's relative error 1e-10 bounds it).
+/// A dense pencil with known eigenvalues and a super-element's spectrum
+/// ([`common::pencils::super_element_pencil`], size 500, above [`WINDOWS_FROM`]; 18 of its
+/// modes below 10 kHz, 6 unstable). The dense CEA's windows (PETSc's dense LU under the full
+/// model's shift-and-invert windows, on this rank alone) must find every eigenvalue of the
+/// band once, to 1e-9 of its modulus (the windows' tolerance over a well-conditioned basis),
+/// with the same classification as faer's every-eigenvalue path, and eigenvectors to a
+/// backward error of 1e-10 (faer's: 1e-15).
 fn dense_windows(rt: &Runtime) -> Result<Vec<f64>, String> {
-    use faer::Mat;
     use squeal::reduce::dense_cea::{
         dense_cea, dense_cea_by, DenseCeaOptions, DenseEigensolver, WINDOWS_FROM,
     };
@@ -301,35 +297,7 @@ fn dense_windows(rt: &Runtime) -> Result<Vec<f64>, String> {
     if n < WINDOWS_FROM {
         return Err(format!("size {n} is below the windows' {WINDOWS_FROM}"));
     }
-    let mut seed = 0x5eed_u64;
-    let mut random = move || {
-        seed = seed
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-    };
-    let blocks = n / 2;
-    // A super-element's spectrum: evenly in frequency up to 300 kHz, the band holding a few
-    // per cent of it (the stiff coordinates are what make the windows' residuals hard).
-    let kk = |b: usize| (2.0 * PI * (300.0 + 300_000.0 * b as f64 / blocks as f64)).powi(2);
-    let cc = |b: usize| if b % 3 == 2 { 0.0 } else { 0.004 * kk(b) };
-    let mut a = Mat::<f64>::zeros(n, n);
-    for b in 0..blocks {
-        let (i, j) = (2 * b, 2 * b + 1);
-        a[(i, i)] = kk(b);
-        a[(j, j)] = kk(b);
-        a[(i, j)] = cc(b);
-        a[(j, i)] = -cc(b);
-    }
-    let q = Mat::<f64>::from_fn(n, n, |_, _| random()).qr().compute_Q();
-    let l = Mat::<f64>::from_fn(n, n, |i, j| match i.cmp(&j) {
-        std::cmp::Ordering::Equal => 1.0 + 0.5 * random().abs(),
-        std::cmp::Ordering::Greater => 0.2 * random() / (n as f64).sqrt(),
-        std::cmp::Ordering::Less => 0.0,
-    });
-    let lq = &l * &q;
-    let k = &lq * &a * lq.transpose();
-    let m = &l * l.transpose();
+    let (k, m, omega2) = common::pencils::super_element_pencil(n);
     let f_max = 10_000.0;
     let options = DenseCeaOptions {
         max_frequency_hz: f_max,
@@ -340,13 +308,9 @@ fn dense_windows(rt: &Runtime) -> Result<Vec<f64>, String> {
     };
     let windows = dense_cea_by(solver, k.as_ref(), m.as_ref(), &options).map_err(e)?;
     let every = dense_cea(k.as_ref(), m.as_ref(), &options).map_err(e)?;
-    let exact: Vec<Complex64> = (0..blocks)
-        .flat_map(|b| {
-            [
-                cea::lambda_of(Complex64::new(kk(b), cc(b))),
-                cea::lambda_of(Complex64::new(kk(b), -cc(b))),
-            ]
-        })
+    let exact: Vec<Complex64> = omega2
+        .iter()
+        .map(|&w2| cea::lambda_of(w2))
         .filter(|l| l.im / (2.0 * PI) <= f_max)
         .collect();
     for (name, found) in [("windows", &windows), ("every", &every)] {

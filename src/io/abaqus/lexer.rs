@@ -185,7 +185,11 @@ mod tests {
         assert_eq!(deck.boundaries[0].nodes.len(), 10);
         assert_eq!(deck.mesh.node_sets["CONTINUED"].len(), 10);
         assert_eq!(deck.warnings.len(), 1, "{:?}", deck.warnings);
-        assert!(deck.warnings[0].contains("*NODE PRINT (1x"), "{:?}", deck.warnings);
+        assert!(
+            deck.warnings[0].contains("*NODE PRINT (1x"),
+            "{:?}",
+            deck.warnings
+        );
     }
 
     #[test]
