@@ -515,6 +515,7 @@ fn build<'rt>(
         boundary_equations: boundary.equations,
     })
 }
+
 /// K_r = T^T K_t T by the Craig-Bampton structure of T = [[I, 0, 0], [Psi, Phi, r]]
 /// (boundary rows, then interior). K_t T's interior rows in the boundary columns are
 /// K_IB + K_II Psi = 0, the constraint modes' own equation (to the block solve's residual,
