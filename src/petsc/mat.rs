@@ -208,6 +208,44 @@ impl<'rt> Matrix<'rt> {
         }
     }
 
+    /// Rows `rows` and columns `cols` (global indices, increasing) of self, the whole block
+    /// on this rank as a sequential AIJ matrix on `alone` (a communicator of this rank only),
+    /// numbered in the order given. Collective over self's communicator (MatCreateSubMatrices),
+    /// each rank asking for its own block: how a rank gets its own copy of a block to factor.
+    pub fn sequential_submatrix(
+        &self,
+        alone: Comm<'rt>,
+        rows: &[usize],
+        cols: &[usize],
+    ) -> Result<Matrix<'rt>> {
+        if alone.size() != 1 {
+            return Err(PetscError::Invalid(format!(
+                "a sequential sub-matrix lives on one rank, not {}",
+                alone.size()
+            )));
+        }
+        let rows = IndexSet::new(alone, rows)?;
+        let cols = IndexSet::new(alone, cols)?;
+        let mut subs: *mut sys::Mat = std::ptr::null_mut();
+        // SAFETY: live matrix and index sets; PETSc allocates the array of one matrix, which
+        // MatDestroySubMatrices frees with the matrix; the reference taken first keeps the
+        // matrix alive for the `Matrix` that owns it from then on.
+        unsafe {
+            check(sys::MatCreateSubMatrices(
+                self.raw,
+                1,
+                &rows.raw,
+                &cols.raw,
+                sys::MAT_INITIAL_MATRIX,
+                &mut subs,
+            ))?;
+            let sub = *subs;
+            check(sys::PetscObjectReference(sub.cast()))?;
+            check(sys::MatDestroySubMatrices(1, &mut subs))?;
+            Ok(Matrix::from_raw(sub))
+        }
+    }
+
     /// Final assembly: communicates off-rank entries (collective).
     pub fn assemble(&mut self) -> Result<()> {
         // SAFETY: live matrix.

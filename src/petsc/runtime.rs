@@ -38,18 +38,27 @@ pub struct Runtime {
 pub struct Comm<'rt> {
     pub(super) raw: sys::MPI_Comm,
     mpi: &'rt SimpleCommunicator,
+    /// This process alone (the runtime's MPI_COMM_SELF), for [`Comm::alone`].
+    alone: &'rt SimpleCommunicator,
     rank: usize,
     size: usize,
 }
 
 impl<'rt> Comm<'rt> {
-    fn new(mpi: &'rt SimpleCommunicator) -> Comm<'rt> {
+    fn new(mpi: &'rt SimpleCommunicator, alone: &'rt SimpleCommunicator) -> Comm<'rt> {
         Comm {
             raw: mpi.as_raw(),
             mpi,
+            alone,
             rank: mpi.rank() as usize,
             size: mpi.size() as usize,
         }
+    }
+
+    /// This process alone: where a rank's own sequential PETSc objects live (a dense
+    /// reduced model's eigensolve on rank 0, a rank's own copy of a factor).
+    pub fn alone(&self) -> Comm<'rt> {
+        Comm::new(self.alone, self.alone)
     }
 
     /// This process's rank in the communicator.
@@ -206,12 +215,12 @@ impl Runtime {
 
     /// All ranks of the job.
     pub fn world(&self) -> Comm<'_> {
-        Comm::new(&self.world)
+        Comm::new(&self.world, &self.self_comm)
     }
 
     /// This rank alone (for per-rank sequential objects).
     pub fn self_comm(&self) -> Comm<'_> {
-        Comm::new(&self.self_comm)
+        Comm::new(&self.self_comm, &self.self_comm)
     }
 
     /// rsmpi's view of the world communicator, for collectives on plain Rust data.

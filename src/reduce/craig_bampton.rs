@@ -34,6 +34,7 @@
 //! and T q_s = u to the round-off of the solves and of the static residual. The fit's
 //! M-norm residual is logged so that it can be seen.
 
+use super::constraint_modes::{constraint_modes, InteriorBlocks};
 use super::interface::ReducedInterface;
 use super::superelement::{BoundaryPair, BoundaryTilt, SuperElement, SuperElementHeader};
 use crate::analysis::cea::{self, CeaError, CeaOptions};
@@ -41,10 +42,7 @@ use crate::analysis::modes::{self, ModeBand, ModesError, ModesOptions};
 use crate::analysis::statics::{self, Configuration, StaticsError};
 use crate::contact::{self, ContactError, ContactPair};
 use crate::model::Operators;
-use crate::petsc::{
-    Comm, DenseMatrix, DirectPackage, FactoredMatrix, Factorization, IndexSet, Matrix, PetscError,
-    Structure,
-};
+use crate::petsc::{Comm, DenseMatrix, IndexSet, Matrix, PetscError, Structure};
 use faer::linalg::solvers::Solve;
 use faer::Mat;
 
@@ -283,7 +281,7 @@ fn build<'rt>(
     m_ii.mark_symmetric()?;
     let interior = i_set.indices()?;
 
-    // 3. One LU, one block solve for [-K_IB | F_I] -> [Psi | r].
+    // 3. [Psi | r] = K_II^-1 [-K_IB | F_I] ([`constraint_modes`]).
     let load = effective_load.gather_all()?;
     // K_IB is sparse (only the interior neighbours of the boundary nodes have entries):
     // read by rows rather than made dense, which on the medium brake was 2 GB more at the
@@ -297,36 +295,22 @@ fn build<'rt>(
         })
         .collect::<Result<_, PetscError>>()?;
     drop(k_ib);
-    let mut rhs = DenseMatrix::zeros(comm, interior.len(), n_b + 1)?;
-    rhs.write_local(|i, j| {
-        if j < n_b {
-            let row = &k_ib_rows[i];
-            row.binary_search_by_key(&j, |&(c, _)| c)
-                .map_or(0.0, |at| -row[at].1)
-        } else {
-            load[interior[i]]
-        }
-    })?;
-    drop(k_ib_rows);
     let started = std::time::Instant::now();
-    // A symmetric K_II (no kept friction inside: always so with every pair on the boundary)
-    // is factored LDL^T: half the factor's memory (small-caliper, every pair on the
-    // boundary: 0.52 s instead of 0.69 s, 200 MB less at the peak). The block solve of its
-    // 1,723 right-hand sides, most of the constraint modes' time, did not change: 14.4 s on
-    // 2 ranks, 5.9 s on 1 (MUMPS's parallel solve phase, not its flops).
-    let factorization = if symmetric {
-        k_ii.mark_symmetric()?;
-        Factorization::Cholesky
-    } else {
-        Factorization::Lu
-    };
-    let factored = FactoredMatrix::new(comm, &k_ii, DirectPackage::Mumps, factorization)?;
-    let solved = factored.solve_block(&rhs)?.local_values()?;
-    drop(rhs);
+    let solved = constraint_modes(
+        comm,
+        InteriorBlocks {
+            k_t: &k_t,
+            k_ii: &mut k_ii,
+            k_ib_rows,
+            boundary: &sorted,
+            interior: &interior,
+            load: &load,
+            symmetric,
+        },
+    )?;
     let constraint_seconds = started.elapsed().as_secs_f64();
     let started = std::time::Instant::now();
     let (shapes, n_fixed) = if symmetric {
-        drop(factored);
         k_ii.mark_symmetric()?;
         let found = modes::real_modes(
             comm,
@@ -347,13 +331,12 @@ fn build<'rt>(
         let n = shapes.len();
         (shapes, n)
     } else {
-        drop(factored);
         let (shapes, n) = unsymmetric_modes(comm, &k_ii, &m_ii, cutoff_hz, interior_modes_hint)?;
         (shapes, n)
     };
     let n_m = shapes.len();
     tracing::info!(
-        "super-element: {n_b} boundary equations, {} interior, {n_fixed} fixed-interface modes below {cutoff_hz} Hz; constraint modes (one LU, one block solve) {constraint_seconds:.1} s, fixed-interface modes {:.1} s",
+        "super-element: {n_b} boundary equations, {} interior, {n_fixed} fixed-interface modes below {cutoff_hz} Hz; constraint modes {constraint_seconds:.1} s, fixed-interface modes {:.1} s",
         k_t.size()?.0 - n_b,
         started.elapsed().as_secs_f64()
     );

@@ -29,6 +29,7 @@
 
 pub mod assembly;
 pub mod basis;
+pub mod constraint_modes;
 pub mod coupling;
 pub mod craig_bampton;
 pub mod dense_cea;

@@ -323,8 +323,7 @@ pub fn superelement_command(
         )),
     )?;
     let started = Instant::now();
-    let mut model =
-        SuperElementModel::from_settings(comm, rt.self_comm(), &SweepSettings::of(&study, &name))?;
+    let mut model = SuperElementModel::from_settings(comm, &SweepSettings::of(&study, &name))?;
     let mu = model.settings().friction;
     let se = model.make(comm, mu)?;
     let written = if comm.rank() == 0 {
@@ -373,7 +372,7 @@ pub fn run(
         .as_ref()
         .is_some_and(|r| r.superelements.is_some())
     {
-        let mut model = SuperElementModel::from_settings(comm, rt.self_comm(), &settings)?;
+        let mut model = SuperElementModel::from_settings(comm, &settings)?;
         let summary = sweep(comm, &mut model, &plan)?;
         if comm.rank() == 0 {
             println!("super-elements built: {}", model.built());

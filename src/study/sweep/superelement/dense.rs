@@ -118,7 +118,7 @@ impl<'rt> SuperElementModel<'rt> {
                 // that slipped stays slipping, with the full stick stiffness across).
                 let assembly = assembly.with_history(statics.anchors())?;
                 let t = Instant::now();
-                let solver = DenseEigensolver::choose(n, self.solo);
+                let solver = DenseEigensolver::choose(n, comm.alone());
                 let cea = assembly.cea_by(
                     solver,
                     &statics.q,

@@ -110,8 +110,6 @@ pub struct SuperElementModel<'rt> {
     built: usize,
     /// The last build's fixed-interface mode count: the next build's first guess.
     interior_modes: Option<usize>,
-    /// This rank alone: the dense CEA's windows run on rank 0's own PETSc objects.
-    solo: Comm<'rt>,
     mesh_hash: String,
     study_hash: String,
 }
@@ -139,12 +137,8 @@ struct Choice {
 
 impl<'rt> SuperElementModel<'rt> {
     /// The reduced-interface model of a sweep whose `[reduction]` asks for super-elements.
-    /// Collective over `comm`; `solo` is this rank alone (where the dense CEA's windows run).
-    pub fn from_settings(
-        comm: Comm<'rt>,
-        solo: Comm<'rt>,
-        sweep: &SweepSettings,
-    ) -> Result<Self, StudyError> {
+    /// Collective.
+    pub fn from_settings(comm: Comm<'rt>, sweep: &SweepSettings) -> Result<Self, StudyError> {
         let file = sweep.source;
         let reduction = sweep
             .reduction
@@ -207,7 +201,6 @@ impl<'rt> SuperElementModel<'rt> {
             previous_q: None,
             built: 0,
             interior_modes: None,
-            solo,
         })
     }
 
