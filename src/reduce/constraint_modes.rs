@@ -125,6 +125,13 @@ fn each_rank(
         }
         all
     };
+    // The same on every rank (from global sizes alone): the rows exchanged below are these.
+    if every_interior.len() != n_i {
+        return Err(PetscError::Invalid(format!(
+            "the ranks hold {n_i} interior rows, but the boundary leaves {}",
+            every_interior.len()
+        )));
+    }
     let alone = comm.alone();
     let my_boundary = &b.boundary[c0.min(n_b)..c1.min(n_b)];
     let k_ii = b
