@@ -9,6 +9,7 @@ pub mod assemble;
 mod build;
 mod deck_constraints;
 pub mod deck_contact;
+mod deck_ties;
 mod error;
 pub mod source;
 pub mod spec;

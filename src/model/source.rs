@@ -143,11 +143,29 @@ pub fn deck_model(
     deck: &abaqus::Deck,
     step: Option<usize>,
 ) -> Result<Model, ModelError> {
+    // Ties first: ADJUST moves slave nodes, and everything after (elements, contact pairs,
+    // couplings' clouds) sees the moved mesh.
+    let ties = super::deck_ties::tie(deck)?;
+    let adjusted;
+    let deck = match ties.moved {
+        Some(mesh) => {
+            adjusted = abaqus::Deck {
+                mesh,
+                ..deck.clone()
+            };
+            &adjusted
+        }
+        None => deck,
+    };
     let loading = match step {
         Some(k) => deck.loading_in_step(k).unwrap_or_default(),
         None => deck.model_loading(),
     };
-    let conditions = super::deck_constraints::conditions(deck, &loading, step)?;
+    let mut conditions = super::deck_constraints::conditions(deck, &loading, step)?;
+    conditions.constraints.extend(super::deck_ties::constraints(
+        &ties.nodes,
+        &conditions.supports,
+    ));
     // One load per face: a deck's net face pressures carry no surface names, and a face's
     // resultant is exact (summing them per surface would cancel opposite backplates).
     let pressures = loading
@@ -189,7 +207,12 @@ pub fn deck_model(
         constraints: conditions.constraints,
         pressures,
         forces: conditions.forces,
-        warnings: deck.warnings.clone(),
+        warnings: deck
+            .warnings
+            .iter()
+            .chain(&ties.warnings)
+            .cloned()
+            .collect(),
         mesh: deck.mesh.clone(),
         ..Default::default()
     };

@@ -99,7 +99,7 @@ pub enum ReduceError {
     NothingToReduce,
     /// The reduction layer assembles K and M without the constraints' transformation.
     #[error(
-        "the model has {count} linear constraint(s) (a deck's *EQUATION, *COUPLING, prescribed \
+        "the model has {count} linear constraint(s) (a deck's *EQUATION, *TIE, *COUPLING, prescribed \
          displacements or supports in *TRANSFORM directions, first from {first}): the reduced \
          contact interface and super-elements do not take constraints; run the full model"
     )]

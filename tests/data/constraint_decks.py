@@ -373,6 +373,100 @@ def cantilever(path, ccx_variant):
         f.write(head + "".join(out) + tail)
 
 
+PAD = "*MATERIAL, NAME=PAD\n*ELASTIC\n20e9, 0.25\n*DENSITY\n2500.\n"
+
+
+def face_weights(x, corners):
+    """The six quadratic face shape functions (corners, then mid-edge nodes ab, bc, ca) at the
+    point of the flat straight-sided triangle `corners` under x (in-plane barycentrics)."""
+    (ax, ay), (bx, by), (cx, cy) = [(c[0], c[1]) for c in corners]
+    det = (bx - ax) * (cy - ay) - (cx - ax) * (by - ay)
+    lb = ((x[0] - ax) * (cy - ay) - (cx - ax) * (x[1] - ay)) / det
+    lc = ((bx - ax) * (x[1] - ay) - (x[0] - ax) * (by - ay)) / det
+    la = 1.0 - lb - lc
+    l = (la, lb, lc)
+    return [q * (2 * q - 1) for q in l] + [4 * la * lb, 4 * lb * lc, 4 * lc * la], min(l)
+
+
+def tied_pads(path, clamped, variant, lift=0.0, adjust=True):
+    """Two pads (20 x 30 x 5 mm, E 20 GPa) on a steel plate (60 x 40 x 5 mm) across
+    non-matching meshes: the pads' half-grid is 3.33 x 3.75 mm, the plate's 5 x 5 mm, and the
+    pads sit 1 mm (the second 2 mm) off the plate's grid lines in x and 0.5 mm in y; no tied
+    face reaches the held end. variant "tie": two *TIEs (each pad's bottom to the plate's
+    top; the finer pads are the slaves); "equations": the same
+    constraints as *EQUATIONs whose coefficients are the quadratic face shape functions at
+    each slave node, computed here; "ccx": the tie deck with *FREQUENCY, STORAGE=YES.
+    clamped: the plate's end face x = 0 held (a cantilever); else free-free (six rigid-body
+    modes). lift: the pads raised that far above the plate (ties with POSITION TOLERANCE=
+    1e-4; adjust=False writes ADJUST=NO, else CalculiX's default, which moves the slave
+    nodes onto the master surface and knows no ADJUST=YES)."""
+    plate_nodes, plate_elements, _ = box((6, 4, 1), (0.06, 0.04, 0.005))
+    out_nodes = dict(plate_nodes)
+    out_elements = {}
+    pads = []
+    for k, x0 in enumerate((0.011, 0.037)):
+        nodes, elements, _ = box((3, 4, 1), (0.02, 0.03, 0.005),
+                                 origin=(x0, 0.0055, 0.005 + lift))
+        shift_n, shift_e = 1000 * (k + 1), 1000 * (k + 1)
+        nodes = {n + shift_n: x for n, x in nodes.items()}
+        elements = {e + shift_e: [c + shift_n for c in conn] for e, conn in elements.items()}
+        out_nodes.update(nodes)
+        pads.append((nodes, elements))
+    top = faces_where(plate_nodes, plate_elements, lambda x: x[2] == 0.005)
+    with open(path, "w") as f:
+        kind = "clamped" if clamped else "free-free"
+        f.write(f"*HEADING\nTwo pads tied to a plate across non-matching meshes ({kind}, {variant})\n")
+        f.write("** Written by tests/data/constraint_decks.py for tests/program/modes_cli.rs.\n")
+        write_nodes(f, out_nodes)
+        write_elements(f, plate_elements, "EPLATE")
+        for k, (nodes, elements) in enumerate(pads):
+            write_elements(f, elements, f"EPAD{k + 1}")
+        f.write("*ELSET, ELSET=EPADS\nEPAD1, EPAD2\n")
+        f.write(STEEL + PAD)
+        f.write("*SOLID SECTION, ELSET=EPLATE, MATERIAL=STEEL\n")
+        f.write("*SOLID SECTION, ELSET=EPADS, MATERIAL=PAD\n")
+        f.write("*SURFACE, NAME=PLATETOP, TYPE=ELEMENT\n")
+        for e, s in top:
+            f.write(f"{e}, S{s}\n")
+        for k, (nodes, elements) in enumerate(pads):
+            bottom = faces_where(nodes, elements, lambda x: x[2] == 0.005 + lift)
+            f.write(f"*SURFACE, NAME=PAD{k + 1}BOTTOM, TYPE=ELEMENT\n")
+            for e, s in bottom:
+                f.write(f"{e}, S{s}\n")
+        if variant in ("tie", "ccx"):
+            params = ""
+            if lift:
+                params = ", POSITION TOLERANCE=1e-4" + ("" if adjust else ", ADJUST=NO")
+            for k in range(2):
+                f.write(f"*TIE, NAME=GLUE{k + 1}{params}\nPAD{k + 1}BOTTOM, PLATETOP\n")
+        else:
+            f.write("*EQUATION\n")
+            for nodes, elements in pads:
+                slaves = sorted(n for n, x in nodes.items() if x[2] == 0.005)
+                for n in slaves:
+                    x = nodes[n]
+                    best = None
+                    for e, s in top:
+                        conn = plate_elements[e]
+                        a, b, c = FACES[s - 1]
+                        mid = {frozenset(p): conn[4 + q] for q, p in enumerate(EDGES)}
+                        face = [conn[a], conn[b], conn[c], mid[frozenset((a, b))],
+                                mid[frozenset((b, c))], mid[frozenset((c, a))]]
+                        w, inside = face_weights(x, [plate_nodes[conn[i]] for i in (a, b, c)])
+                        if best is None or inside > best[0]:
+                            best = (inside, face, w)
+                    inside, face, w = best
+                    assert inside > -1e-12, (n, x)
+                    for d in (1, 2, 3):
+                        write_equation(f, [(n, d, 1.0)] + [(m, d, -q) for m, q in zip(face, w)
+                                                           if abs(q) > 1e-14])
+        if clamped:
+            write_set(f, "END", [n for n, x in plate_nodes.items() if x[0] == 0.0])
+            f.write("*BOUNDARY\nEND, 1, 3\n")
+        freq = "*FREQUENCY, STORAGE=YES" if variant == "ccx" else "*FREQUENCY"
+        f.write(f"*STEP\n{freq}\n16\n*NODE FILE\nU\n*END STEP\n")
+
+
 if __name__ == "__main__":
     here = sys.argv[1] if len(sys.argv) > 1 else "."
     coupled_block(f"{here}/coupled_block.inp", False)
@@ -381,3 +475,10 @@ if __name__ == "__main__":
     tube(f"{here}/prescribed_tube.inp")
     cantilever(f"{here}/constraints_c3d10.inp", False)
     cantilever(f"{here}/constraints_c3d10.ccx.inp", True)
+    for clamped, name in ((True, "clamped"), (False, "free")):
+        tied_pads(f"{here}/tied_pads_{name}.inp", clamped, "tie")
+        tied_pads(f"{here}/tied_pads_{name}.eqn.inp", clamped, "equations")
+        tied_pads(f"{here}/tied_pads_{name}.ccx.inp", clamped, "ccx")
+    # squeal reads these CalculiX decks as they are (STORAGE=YES changes nothing for it).
+    tied_pads(f"{here}/tied_pads_lifted.ccx.inp", True, "ccx", lift=1e-5)
+    tied_pads(f"{here}/tied_pads_lifted_noadjust.ccx.inp", True, "ccx", lift=1e-5, adjust=False)

@@ -2,7 +2,8 @@
 //! coupling against the closed form of a rigid block on springs, prescribed displacements
 //! against the exact linear fields they impose (and the reaction E A d / L), in global and
 //! in cylindrical (`*TRANSFORM`) directions. The decks are tests/data/coupled_block.inp,
-//! prescribed_bar.inp and prescribed_tube.inp (written by constraint_decks.py there); the
+//! prescribed_bar.inp, prescribed_tube.inp and tied_pads_clamped.inp (written by
+//! constraint_decks.py there; the ties' force balance); the
 //! frequencies against CalculiX are in `tests/program/modes_cli.rs`.
 
 use crate::common;
@@ -40,6 +41,12 @@ pub const CHECKS: &[Check] = &[
     Check {
         name: "prescribed_radial_displacements_in_a_cylindrical_system_expand_a_tube_exactly",
         run: prescribed_tube,
+        ranks: &[1, 2],
+        agreement: 1e-8,
+    },
+    Check {
+        name: "tied_pads_pass_their_loads_to_the_plate_through_the_tie",
+        run: tied_pads_loaded,
         ranks: &[1, 2],
         agreement: 1e-8,
     },
@@ -484,4 +491,93 @@ fn pressed_pad(rt: &Runtime) -> Result<Vec<f64>, String> {
     let mut out = vec![reaction, contact];
     out.extend(a);
     Ok(out)
+}
+
+// --- tied pads -----------------------------------------------------------------------------
+
+/// tests/data/tied_pads_clamped.inp (two pads tied by `*TIE` to a plate held at its end,
+/// non-matching meshes) with forces on the pads' top nodes: pad 1 pushed down and along x,
+/// pad 2 along y. A pad is held by nothing but its tie, so the forces the tie applies on
+/// its nodes must cancel its load, force and moment (its elastic forces sum to zero for
+/// any displacement: K annihilates rigid motions), and the plate's master nodes must receive
+/// the opposite. Asked 1e-8 of the load (the static's linear solve leaves ~1e-12).
+fn tied_pads_loaded(rt: &Runtime) -> Result<Vec<f64>, String> {
+    let mut model = deck("tied_pads_clamped.inp")?;
+    let labels = &model.mesh.node_labels;
+    let pad_of = |n: usize| match labels[n] {
+        1000..=1999 => Some(0),
+        2000..=2999 => Some(1),
+        _ => None,
+    };
+    let loads = [[0.5, 0.0, -1.0], [0.0, 1.0, 0.0]];
+    let top = model
+        .mesh
+        .nodes
+        .iter()
+        .enumerate()
+        .filter(|(_, x)| (x[2] - 0.010).abs() < 1e-12)
+        .map(|(n, _)| n)
+        .collect::<Vec<_>>();
+    let mut applied = [[0.0; 6]; 2];
+    for &n in &top {
+        let Some(p) = pad_of(n) else { continue };
+        let x = model.mesh.nodes[n];
+        let f = loads[p];
+        model
+            .forces
+            .extend(f.iter().enumerate().map(|(c, &fc)| (n, c, fc)));
+        let m = squeal::vector3::cross(x, f);
+        for c in 0..3 {
+            applied[p][c] += f[c];
+            applied[p][3 + c] += m[c];
+        }
+    }
+    let (_, forces) = solve_static(rt, &model)?;
+    // Net force and moment (about the origin) of the constraint forces on each pad, and on
+    // the plate's top-face nodes.
+    let mut on_pad = [[0.0; 6]; 2];
+    let mut on_plate = [0.0; 6];
+    for (n, f) in forces.iter().enumerate() {
+        let x = model.mesh.nodes[n];
+        let m = squeal::vector3::cross(x, *f);
+        let sums = match pad_of(n) {
+            Some(p) => &mut on_pad[p],
+            None if (x[2] - 0.005).abs() < 1e-12 => &mut on_plate,
+            None => continue,
+        };
+        for c in 0..3 {
+            sums[c] += f[c];
+            sums[3 + c] += m[c];
+        }
+    }
+    // Loads of about 1 N per node, moments of about 0.06 N m per node.
+    let scale = top.len() as f64;
+    let mut worst: f64 = 0.0;
+    for p in 0..2 {
+        for k in 0..6 {
+            let gap = on_pad[p][k] + applied[p][k];
+            let opposite = on_plate[k] - applied[0][k] - applied[1][k];
+            worst = worst.max(gap.abs().max(opposite.abs()) / scale);
+            if gap.abs() > 1e-8 * scale || opposite.abs() > 1e-8 * scale {
+                return Err(format!(
+                    "pad {}: the tie's resultant {:?} does not cancel the load {:?}, or the \
+                     plate's {:?} is not their opposite (component {k})",
+                    p + 1,
+                    on_pad[p],
+                    applied[p],
+                    on_plate
+                ));
+            }
+        }
+    }
+    if rt.world().rank() == 0 {
+        println!(
+            "tied pads: tie force on pad 1 {:?} N, pad 2 {:?} N, plate {:?} N; largest \
+             imbalance {worst:.1e} of the load",
+            &on_pad[0][..3],
+            &on_pad[1][..3],
+            &on_plate[..3]
+        );
+    }
+    Ok(on_pad.iter().flatten().copied().collect())
 }

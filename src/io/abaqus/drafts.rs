@@ -388,6 +388,8 @@ pub(super) enum Block {
     ElementPressure,
     /// `*EQUATION`, `*TRANSFORM`, `*DISTRIBUTING` ([`super::constraint_lines`]).
     Constraint(super::constraint_lines::ConstraintBlock),
+    /// The data line of a `*TIE` ([`super::tie_lines`]).
+    Tie,
 }
 
 /// Occurrences of something to warn about, by key: count and first place.

@@ -70,11 +70,6 @@ pub(super) fn refused(name: &str) -> Option<&'static str> {
              interaction's mu itself)"
         }
         "MODELCHANGE" => "removing or adding elements or contact pairs in a step is not supported",
-        "TIE" => {
-            "tied surfaces are not supported yet, and skipping the tie would leave the tied \
-             parts apart (a clamped model with free-floating pads): merge the meshes at the \
-             interface, or write the tie as *EQUATION or *COUPLING, KINEMATIC"
-        }
         _ => return None,
     })
 }
@@ -204,6 +199,7 @@ impl Reader {
             "EQUATION" | "TRANSFORM" | "COUPLING" | "DISTRIBUTING" | "KINEMATIC" => {
                 self.constraint_keyword(&mut kw)?
             }
+            "TIE" => self.tie_keyword(&mut kw)?,
             "MOTION" => self.motion_keyword(&mut kw)?,
             "STEP" => self.step_keyword(&mut kw)?,
             "ENDSTEP" => {
@@ -361,6 +357,7 @@ impl Reader {
                 | "COUPLING"
                 | "DISTRIBUTING"
                 | "KINEMATIC"
+                | "TIE"
                 | "MOTION"
                 | "COMPLEXFREQUENCY"
                 | "STEP"
@@ -831,10 +828,6 @@ mod tests {
     #[test]
     fn keywords_that_could_change_the_model_stop_the_run_at_their_line() {
         for (keyword, said) in [
-            (
-                "*TIE, NAME=GLUE\nPAD, DISC\n",
-                "tied surfaces are not supported",
-            ),
             (
                 "*DAMPING, ALPHA=2.0\n",
                 "*DAMPING: squeal does not read this keyword",

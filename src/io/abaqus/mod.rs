@@ -21,6 +21,7 @@
 //! | `*SURFACE INTERACTION, NAME=` with `*SURFACE BEHAVIOR` (`PRESSURE-OVERCLOSURE=LINEAR` slope, `HARD`, `NO SEPARATION`) and `*FRICTION` (mu, stick slope) | [`SurfaceInteraction`] |
 //! | `*CONTACT PAIR, INTERACTION=, TYPE=NODE TO SURFACE` (`SMALL SLIDING`, `ADJUST=` distance) | [`DeckContactPair`] (element- or node-based slave) |
 //! | `*EQUATION` (node sets expanded), `*TRANSFORM, NSET=, TYPE=R \| C`, `*COUPLING, REF NODE=, SURFACE=` + `*DISTRIBUTING` | [`Equation`], [`DeckTransform`], [`DeckCoupling`] (`constraint_lines.rs`) |
+//! | `*TIE, NAME=` (`POSITION TOLERANCE=`, `ADJUST=YES \| NO`, `TYPE=NODE TO SURFACE \| SURFACE TO SURFACE`), `slave, master` | [`DeckTie`] (`tie_lines.rs`; the constraints are made in [`crate::model`]) |
 //! | `*MOTION, ROTATION` / `TRANSLATION`, `TYPE=VELOCITY` (node set, angular speed and two axis points, or DOFs and speed) | [`Motion`] (model data or a step's) |
 //! | `*COMPLEX FREQUENCY` (modes, minimum and maximum frequency, shift) | [`Procedure::ComplexFrequency`] |
 //!
@@ -30,9 +31,9 @@
 //! definitions listed at [`keywords::ignored`]) are read past with their data lines and
 //! listed, with counts and the first place each appeared, in ONE warning. Every other keyword
 //! squeal does not read is refused at its line: skipping one could change the physics (a
-//! `*TIE` left tied pads floating free, and the run exited 0). Some carry a reason and a way
-//! out (`*TIE`, `*PART`/`*INSTANCE`, `*SYSTEM`, node and element generation, Abaqus general
-//! contact, contact clearances); the rest are named as not read.
+//! skipped `*TIE` once left tied pads floating free, and the run exited 0). Some carry a
+//! reason and a way out (`*PART`/`*INSTANCE`, `*SYSTEM`, node and element generation,
+//! Abaqus general contact, contact clearances); the rest are named as not read.
 //!
 //! # Conventions decided here
 //!
@@ -106,6 +107,7 @@ mod resolve;
 mod steps;
 #[cfg(test)]
 mod test_support;
+mod tie_lines;
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
@@ -122,6 +124,7 @@ pub use records::{
     SurfaceInteraction,
 };
 pub use steps::Loading;
+pub use tie_lines::{DeckTie, TieKind};
 
 /// Everything read from a deck.
 #[derive(Clone, Debug, Default)]
@@ -153,6 +156,8 @@ pub struct Deck {
     pub contact_pairs: Vec<DeckContactPair>,
     /// `*EQUATION`s, node sets expanded, in the order written.
     pub equations: Vec<Equation>,
+    /// `*TIE`s, in the order written.
+    pub ties: Vec<DeckTie>,
     /// `*TRANSFORM`s (no node in two).
     pub transforms: Vec<DeckTransform>,
     /// `*COUPLING` + `*DISTRIBUTING`, one per reference node.

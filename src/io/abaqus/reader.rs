@@ -53,6 +53,8 @@ pub(super) struct Reader {
 
     /// `*EQUATION`, `*TRANSFORM`, `*COUPLING` drafts.
     pub(super) constraints: super::constraint_lines::ConstraintDrafts,
+    /// `*TIE` drafts.
+    pub(super) ties: Vec<super::tie_lines::TieDraft>,
 
     pub(super) model: LoadDrafts,
     pub(super) step: Option<StepDraft>,
@@ -99,6 +101,7 @@ impl Reader {
             first_material: None,
             contact_notes: Tally::default(),
             constraints: Default::default(),
+            ties: Vec::new(),
             model: LoadDrafts::default(),
             step: None,
             steps: Vec::new(),
@@ -319,6 +322,7 @@ impl Reader {
                 let kind = *kind;
                 self.constraint_line(kind, text, loc)
             }
+            Block::Tie => self.tie_line(text, loc),
             Block::ConcentratedLoad => self.load_line(text, loc),
             Block::SurfacePressure => self.surface_pressure_line(text, loc),
             Block::ElementPressure => self.element_pressure_line(text, loc),

@@ -97,12 +97,14 @@ impl Reader {
 
         let (equations, transforms, couplings) =
             self.resolve_constraints(&mesh, &self.node_surfaces.keys().cloned().collect())?;
+        let ties = self.resolve_ties(&mesh)?;
         let interactions = self.resolve_interactions()?;
         let contact_pairs = self.resolve_contact_pairs(&mesh, &interactions)?;
 
         self.collect_warnings();
         Ok(Deck {
             equations,
+            ties,
             transforms,
             couplings,
             interactions,
