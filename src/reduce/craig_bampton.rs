@@ -59,6 +59,8 @@ pub enum SuperElementError {
     NotReducedPoint { pair: String, point: usize },
     #[error("node {node} of the reduced interface has a supported component: a reduced contact node must be free")]
     SupportedBoundary { node: usize },
+    #[error("the model has {count} linear constraint(s) (a deck's *EQUATION, *TIE, *COUPLING, prescribed displacements or supports in *TRANSFORM directions, first from {first}): super-elements do not take constraints yet; compare the full model with its reduced interfaces (a study's superelements = [])")]
+    Constraints { count: usize, first: String },
     #[error("the equilibrium has {given} nodes, the model {expected}")]
     EquilibriumSize { given: usize, expected: usize },
     #[error("the cut-off frequency must be positive and finite, got {0}")]
@@ -96,6 +98,13 @@ fn boundary(
     swept: &[usize],
 ) -> Result<Boundary, SuperElementError> {
     let model = &reduced.model;
+    // The boundary and interior below are numbered in K's unconstrained equations.
+    if let Some(first) = model.constraints.first() {
+        return Err(SuperElementError::Constraints {
+            count: model.constraints.len(),
+            first: first.source.clone(),
+        });
+    }
     let pairs = model.pairs.len();
     if swept.is_empty() {
         return Err(SuperElementError::NoSweptPair);

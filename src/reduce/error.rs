@@ -97,19 +97,12 @@ pub enum ReduceError {
         "a reduced interface replaces the swept (disc/pad) pairs, and no pair has sweep = true"
     )]
     NothingToReduce,
-    /// The reduction layer assembles K and M without the constraints' transformation.
-    #[error(
-        "the model has {count} linear constraint(s) (a deck's *EQUATION, *TIE, *COUPLING, prescribed \
-         displacements or supports in *TRANSFORM directions, first from {first}): the reduced \
-         contact interface and super-elements do not take constraints; run the full model"
-    )]
-    Constraints { count: usize, first: String },
     /// A swept pair that is not node-to-surface has no surfaces to lay a grid on.
     #[error("pair '{pair}' is not a node-to-surface pair between two surfaces: nothing to reduce")]
     NotNodeToSurface { pair: String },
     /// A reduced contact node that faces no disc face.
     #[error(
-        "pair '{pair}': reduced contact node {reduced_node} at ({:.6e}, {:.6e}, {:.6e}) does          not project on the master surface '{surface}'",
+        "pair '{pair}': reduced contact node {reduced_node} at ({:.6e}, {:.6e}, {:.6e}) does not project on the master surface '{surface}'",
         position[0], position[1], position[2]
     )]
     Unprojected {

@@ -554,12 +554,8 @@ pub fn reduce_interface(
     model: &Model,
     settings: &InterfaceSettings,
 ) -> Result<ReducedInterface, ReduceError> {
-    if let Some(first) = model.constraints.first() {
-        return Err(ReduceError::Constraints {
-            count: model.constraints.len(),
-            first: first.source.clone(),
-        });
-    }
+    // A model's constraints stay as they are: the reduced interface appends its nodes, and
+    // its model is assembled with them like any other (C^T K C).
     let mut reduced = model.clone();
     let mut pads: Vec<ReducedPad> = Vec::new();
     let swept: Vec<usize> = (0..model.pairs.len()).filter(|&i| model.swept[i]).collect();

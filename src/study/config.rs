@@ -595,7 +595,10 @@ impl Study {
                     .comparison
                     .as_ref()
                     .is_some_and(|c| !c.superelements.is_empty()),
-                any_swept: self.contacts.iter().any(|c| c.sweep),
+                // A deck's pairs are swept by its *MOTIONs or the sliding key, which the
+                // model decides (a reduction with none swept is refused there by name).
+                any_swept: self.contacts.iter().any(|c| c.sweep)
+                    || self.mesh.file.as_deref().is_some_and(is_deck),
             };
             r.check(context, bad)?;
         }

@@ -224,6 +224,18 @@ pub enum StudyError {
          damping or sweep the reduced-interface model (no reduction.superelements)"
     )]
     DampedSuperElements { file: String },
+    /// Super-elements asked, by the study's plan, of a model with linear constraints.
+    #[error(
+        "{file}: comparison.superelements: the model has {count} linear constraint(s) (*TIE, \
+         *EQUATION, *COUPLING, prescribed displacements or supports in *TRANSFORM directions, \
+         first from {first}), and super-elements do not take constraints yet; the reduced \
+         interfaces do: give superelements = []"
+    )]
+    ConstrainedSuperElements {
+        file: String,
+        count: usize,
+        first: String,
+    },
     /// A super-element asked of a model without a reduced interface.
     #[error("a super-element needs a reduced interface ([reduction])")]
     NoReducedInterface,

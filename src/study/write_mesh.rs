@@ -83,7 +83,7 @@ fn write(model: &Model, msh: &Path, vtu: &Path) -> Result<(), StudyError> {
     }
     if !model.constraints.is_empty() {
         println!(
-            "not written: the deck's {} linear constraint(s) (*EQUATION, *COUPLING, prescribed \
+            "not written: the deck's {} linear constraint(s) (*EQUATION, *TIE, *COUPLING, prescribed \
              displacements and supports in *TRANSFORM directions: a .msh holds none)",
             model.constraints.len()
         );

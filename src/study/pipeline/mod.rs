@@ -143,6 +143,7 @@ pub fn run_command(
         study.reduction = Some(quick::reduction());
     }
     // The plan is part of the study a user edits: written out whole, defaults filled in.
+    let planned = study.comparison.is_some();
     study.comparison = Some(study.comparison.unwrap_or_else(|| {
         if quick {
             quick::comparison()
@@ -150,6 +151,7 @@ pub fn run_command(
             ComparisonSpec::default()
         }
     }));
+    constrained_plan(comm, &mut study, planned)?;
     if let Some(path) = write_study {
         let inputs = study.input_files(file);
         crate::study::report::check_output_file_owner(comm, path, &inputs, None)?;
@@ -197,6 +199,58 @@ pub fn run_command(
         );
         Ok(())
     })
+}
+
+/// A deck with linear constraints (`*TIE`, `*EQUATION`, ...) takes reduced interfaces but no
+/// super-elements yet: the default plan leaves them out and says so; a plan that asks for
+/// them is refused before any stage runs (not after the full model's sweep). Collective.
+fn constrained_plan(
+    comm: crate::petsc::Comm<'_>,
+    study: &mut crate::study::config::Study,
+    planned: bool,
+) -> Result<(), StudyError> {
+    let Some(path) = study.mesh.file.clone() else {
+        return Ok(());
+    };
+    let wants = study
+        .comparison
+        .as_ref()
+        .is_some_and(|c| !c.superelements.is_empty());
+    if !wants || !crate::study::config::is_deck(&path) {
+        return Ok(());
+    }
+    let model = collective(
+        comm,
+        crate::model::source::read(&path).map_err(|source| StudyError::StudyModel {
+            file: path.display().to_string(),
+            source,
+        }),
+    )?;
+    let Some(first) = model.constraints.first() else {
+        return Ok(());
+    };
+    if planned {
+        // The same model and plan on every rank: every rank has this error, rank 0 says it.
+        return Err(StudyError::ConstrainedSuperElements {
+            file: path.display().to_string(),
+            count: model.constraints.len(),
+            first: first.source.clone(),
+        }
+        .collective());
+    }
+    if comm.rank() == 0 {
+        println!(
+            "{}: {} linear constraint(s) (first from {}): the default plan runs the reduced \
+             interfaces without super-elements, which do not take constraints yet",
+            path.display(),
+            model.constraints.len(),
+            first.source
+        );
+    }
+    if let Some(c) = study.comparison.as_mut() {
+        c.superelements.clear();
+    }
+    Ok(())
 }
 
 /// Rank 0: the study's folder is no input, no other command's result folder and no other
