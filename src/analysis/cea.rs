@@ -159,6 +159,12 @@ pub struct ComplexMode {
     /// ([`crate::analysis::sensitivity`]). Given for unstable modes of full-size models.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub sensitivity: Option<crate::analysis::sensitivity::Sensitivity>,
+    /// How it moves with each body's Young's modulus, per unit of ln E, by body name: where
+    /// the friction sensitivity is given ([`crate::analysis::sensitivity::ModulusSensitivity`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub modulus_sensitivity: Option<
+        std::collections::BTreeMap<String, crate::analysis::sensitivity::ModulusSensitivity>,
+    >,
     #[serde(skip)]
     pub lambda: Complex64,
 }
@@ -260,6 +266,7 @@ pub fn mode_from_lambda(
         pair_shares: None,
         left_residual: None,
         sensitivity: None,
+        modulus_sensitivity: None,
         lambda,
     }
 }

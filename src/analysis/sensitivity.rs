@@ -34,6 +34,9 @@
 //! sweep's central differences to 1e-4 (`tiny`, mu 0.599/0.6/0.601: 606.32 against 606.34
 //! 1/s, 30.939 against 30.939 Hz).
 //!
+//! **Young's moduli.** The same first-order formula with dK_t/d ln E_b = K_b + (dJ/du)[du],
+//! K_t,s du = -K_b u, per body b ([`ModulusSensitivity`]), where the left vectors exist.
+//!
 //! Rayleigh damping (the quadratic problem) has no left vectors here: no sensitivity.
 
 use super::growth::Shape;
@@ -66,6 +69,34 @@ pub struct Sensitivity {
     /// Whether a contact point changes state (open, stick, slip) on one side of mu: the
     /// derivative is then the other side's.
     pub one_sided: bool,
+}
+
+/// How an eigenvalue moves with one body's Young's modulus, per unit of ln E (E dlambda/dE:
+/// a body 10 % stiffer moves it by about a tenth of these). The pencil's K_t = K + J(u) has
+/// dK/d ln E_b = K_b, the body's own stiffness ([`crate::fem::body_stiffness`]), and the
+/// equilibrium moves by K_t,s du = -K_b u, which J sees through u (nothing for the penalty
+/// and steady sliding laws while no point changes state: J is constant in u there).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct ModulusSensitivity {
+    /// E_b d Re(lambda) / d E_b, 1/s.
+    pub d_real_part_d_ln_young: f64,
+    /// E_b d (Im(lambda) / 2 pi) / d E_b, Hz.
+    pub d_frequency_hz_d_ln_young: f64,
+    /// The part of `d_real_part_d_ln_young` the equilibrium's change makes.
+    pub d_real_part_d_ln_young_through_equilibrium: f64,
+    /// Whether a contact point changes state on one side: the derivative is the other's.
+    pub one_sided: bool,
+}
+
+impl From<Sensitivity> for ModulusSensitivity {
+    fn from(s: Sensitivity) -> Self {
+        ModulusSensitivity {
+            d_real_part_d_ln_young: s.d_real_part_d_mu,
+            d_frequency_hz_d_ln_young: s.d_frequency_hz_d_mu,
+            d_real_part_d_ln_young_through_equilibrium: s.d_real_part_d_mu_through_equilibrium,
+            one_sided: s.one_sided,
+        }
+    }
 }
 
 /// dlambda from ds = d(omega^2) (lambda^2 = -omega^2).
@@ -194,48 +225,95 @@ pub struct StaticLayout<'a, 'rt> {
     pub linear: &'a LinearMethod,
 }
 
-/// du/dmu at the equilibrium `u` (every node, every rank): K_t,s du = -dF_c/dmu with the
-/// static tangent and the contact forces from the committed history `after`, `pairs` at
-/// friction mu and `pairs_ahead` at mu + [`STEP`] (see the module doc). Collective.
+/// A change of the model the equilibrium answers to, per unit of a parameter t: nodal
+/// forces dF/dt at fixed u (the elastic forces K_b u of a body's ln E), and the contact
+/// pairs at t + [`STEP`] whose forces' change is part of it (the pairs at mu + h for the
+/// friction; the pairs whose default penalty follows a body's modulus, scaled).
+pub struct Perturbation<'a> {
+    pub forces: Option<&'a [[f64; 3]]>,
+    pub pairs_ahead: Option<&'a [ContactPair]>,
+}
+
+/// The equilibrium's rate of change du/dt for each perturbation, at the equilibrium `u`
+/// (every node, every rank): K_t,s du = -(dF/dt + (F_c(pairs_ahead) - F_c(pairs)) / STEP),
+/// with the static tangent and the contact forces from the committed history `after`, one
+/// factorisation for all (see the module doc). Collective.
 pub fn equilibrium_rate<'rt>(
     comm: Comm<'rt>,
     layout: &StaticLayout<'_, 'rt>,
     pairs: &[ContactPair],
-    pairs_ahead: &[ContactPair],
     after: &SlipHistory,
     u: &[[f64; 3]],
-) -> Result<Vec<[f64; 3]>, StaticsError> {
+    perturbations: &[Perturbation<'_>],
+) -> Result<Vec<Vec<[f64; 3]>>, StaticsError> {
     let dofs = layout.dofs;
     // The stiffness's own layout (the full numbering's rows as PETSc distributes them).
-    let (mut rhs, _) = layout.stiffness.vectors()?;
-    rhs.set(0.0)?;
-    statics::add_contact_forces(comm, &mut rhs, dofs, pairs_ahead, after, u)?;
-    let mut here = rhs.duplicate()?;
+    let (mut here, _) = layout.stiffness.vectors()?;
+    here.set(0.0)?;
     statics::add_contact_forces(comm, &mut here, dofs, pairs, after, u)?;
-    rhs.axpy(-1.0, &here)?;
-    rhs.scale(-1.0 / STEP)?;
-    // Collective: every rank computes the norm, rank 0 logs it.
-    let force_rate = rhs.norm2()?;
+    let owned = dofs.owned_equations();
+    let mut right = Vec::with_capacity(perturbations.len());
+    for p in perturbations {
+        let mut rhs = here.duplicate()?;
+        match p.pairs_ahead {
+            Some(ahead) => {
+                rhs.set(0.0)?;
+                statics::add_contact_forces(comm, &mut rhs, dofs, ahead, after, u)?;
+                rhs.axpy(-1.0, &here)?;
+                rhs.scale(1.0 / STEP)?;
+            }
+            None => rhs.set(0.0)?,
+        }
+        if let Some(forces) = p.forces {
+            let mut local = vec![0.0; owned.len()];
+            for (n, f) in forces.iter().enumerate() {
+                for (c, &value) in f.iter().enumerate() {
+                    if let Some(e) = dofs.equation(n, c).filter(|e| owned.contains(e)) {
+                        local[e - owned.start] = value;
+                    }
+                }
+            }
+            let mut v = here.duplicate()?;
+            v.set_local(&local)?;
+            rhs.axpy(1.0, &v)?;
+        }
+        rhs.scale(-1.0)?;
+        right.push(rhs);
+    }
     let tangent = statics::tangent(comm, layout.stiffness, dofs, pairs, after, u)?;
-    let full = match layout.constraints {
+    let mut solutions = Vec::with_capacity(right.len());
+    match layout.constraints {
         None => {
-            let mut du = rhs.duplicate()?;
-            LinearSolver::new(comm, &tangent, layout.linear)?.solve(&rhs, &mut du)?;
-            du
+            let mut solver = LinearSolver::new(comm, &tangent, layout.linear)?;
+            for b in &right {
+                let mut du = b.duplicate()?;
+                solver.solve(b, &mut du)?;
+                solutions.push(du);
+            }
         }
         Some(t) => {
             let on_free = t.project(&tangent)?;
             drop(tangent);
-            let mut b = t.free_vector()?;
-            t.restrict_into(&rhs, &mut b)?;
-            let mut dx = b.duplicate()?;
-            LinearSolver::new(comm, &on_free, layout.linear)?.solve(&b, &mut dx)?;
-            t.expand(&dx, 0.0)?
+            let mut solver = LinearSolver::new(comm, &on_free, layout.linear)?;
+            for b in &right {
+                let mut free = t.free_vector()?;
+                t.restrict_into(b, &mut free)?;
+                let mut dx = free.duplicate()?;
+                solver.solve(&free, &mut dx)?;
+                solutions.push(t.expand(&dx, 0.0)?);
+            }
         }
-    };
-    let rate = full.norm2()?;
-    tracing::debug!("du/dmu: |dF_c/dmu| = {force_rate:.3e}, |du/dmu| = {rate:.3e}");
-    Ok(statics::node_displacements(&full, dofs)?)
+    }
+    // Collective: every rank computes the norms, rank 0 logs them.
+    let mut norms = Vec::with_capacity(solutions.len());
+    for v in &solutions {
+        norms.push(v.norm2()?);
+    }
+    tracing::debug!("equilibrium rates: |du/dt| = {norms:?}");
+    Ok(solutions
+        .iter()
+        .map(|v| statics::node_displacements(v, dofs))
+        .collect::<Result<Vec<_>, _>>()?)
 }
 
 #[cfg(test)]

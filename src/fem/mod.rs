@@ -3,6 +3,7 @@
 
 pub mod assemble;
 pub mod body_energy;
+pub mod body_stiffness;
 pub mod constraints;
 pub mod distributing;
 pub mod dofs;

@@ -624,14 +624,30 @@ impl<'rt> FrictionModel<'rt> for FullModel<'rt> {
                     let (re, im) = (dofs.displacements(&re), dofs.displacements(&im));
                     let t_why = Instant::now();
                     let feed = self.contributions(mode, pairs, &equilibrium, &re, &im);
-                    if let (Some((yr, yi, mass_form)), Some(du)) = (left, &du) {
+                    if let (Some((yr, yi, mass_form)), Some(rates)) = (left, &du) {
                         let left = LeftShape {
                             re: dofs.displacements(&yr),
                             im: dofs.displacements(&yi),
                             mass_form,
                         };
-                        mode.sensitivity =
-                            self.friction_sensitivity(mode, mu, &equilibrium, &re, &im, &left, du);
+                        mode.sensitivity = self.friction_sensitivity(
+                            mode,
+                            mu,
+                            &equilibrium,
+                            &re,
+                            &im,
+                            &left,
+                            &rates.friction,
+                        );
+                        mode.modulus_sensitivity = self.modulus_sensitivities(
+                            mode,
+                            mu,
+                            &equilibrium,
+                            &re,
+                            &im,
+                            &left,
+                            rates,
+                        );
                     }
                     why_seconds += t_why.elapsed().as_secs_f64();
                     let re = mesh_part(re, &self.model.mesh);

@@ -5,13 +5,27 @@
 use super::FullModel;
 use crate::analysis::cea;
 use crate::analysis::growth;
-use crate::analysis::sensitivity::{self, Sensitivity, StaticLayout};
+use crate::analysis::sensitivity::{self, ModulusSensitivity, Sensitivity, StaticLayout};
 use crate::analysis::statics;
 use crate::contact;
-use crate::fem::body_energy;
+use crate::fem::{body_energy, body_stiffness};
 use crate::model::Operators;
 use crate::petsc::Comm;
 use num_complex::Complex64;
+use std::collections::BTreeMap;
+
+/// The equilibrium's rates of change: with the swept friction, and with each body's ln E.
+pub(super) struct Rates {
+    pub friction: Vec<[f64; 3]>,
+    pub bodies: Vec<BodyRate>,
+}
+
+/// du/d ln E_b of one body, and the pairs whose penalty follows its modulus.
+pub(super) struct BodyRate {
+    pub body: String,
+    pub followers: Vec<usize>,
+    pub du: Vec<[f64; 3]>,
+}
 
 /// A mode's left eigenvector at every node of the model (rank 0) and y^H M x.
 pub(super) struct LeftShape {
@@ -131,15 +145,69 @@ impl FullModel<'_> {
             .sum()
     }
 
-    /// du/dmu at the equilibrium of friction `mu` ([`sensitivity::equilibrium_rate`]), on
-    /// every rank; `None`, said in the log, when it cannot be had (the point goes on without
-    /// sensitivities). Collective.
+    /// The contact pairs whose penalty follows each body's modulus: a pair given no penalty
+    /// takes 10 E_min / h ([`contact::node_to_surface`]), E_min the smallest Young's modulus
+    /// of the elements its two surfaces' faces belong to, so its stiffness scales with the
+    /// body that has it. Where two bodies share that smallest modulus the minimum has no
+    /// derivative: the pair is left out, and said.
+    fn penalty_followers(&self) -> BTreeMap<String, Vec<usize>> {
+        let mesh = &self.model.mesh;
+        let owner = mesh.element_parts();
+        let mut out: BTreeMap<String, Vec<usize>> = BTreeMap::new();
+        for (i, pair) in self.model.pairs.iter().enumerate() {
+            let surfaces = self.model.pair_surfaces.get(i).cloned().flatten();
+            let (Some((slave, master)), None) = (surfaces, pair.settings.penalty) else {
+                continue;
+            };
+            let mut moduli: BTreeMap<usize, f64> = BTreeMap::new();
+            for name in [slave, master] {
+                for f in mesh.surfaces.get(&name).iter().flat_map(|s| &s.faces) {
+                    let Some(p) = owner[f.element] else { continue };
+                    let part = &mesh.parts[p];
+                    if let Some(m) = part.material.as_ref().and_then(|m| mesh.materials.get(m)) {
+                        moduli.insert(p, m.young);
+                    }
+                }
+            }
+            let least = moduli.values().copied().fold(f64::INFINITY, f64::min);
+            let at_least: Vec<usize> = moduli
+                .iter()
+                .filter(|(_, &e)| e == least)
+                .map(|(&p, _)| p)
+                .collect();
+            match at_least[..] {
+                [p] => out.entry(mesh.parts[p].name.clone()).or_default().push(i),
+                _ => tracing::debug!(
+                    "pair {}: its default penalty follows {} bodies of the same modulus: \
+                     left out of the moduli's sensitivities",
+                    pair.settings.name,
+                    at_least.len()
+                ),
+            }
+        }
+        out
+    }
+
+    /// The pairs at `mu` with the penalty of `followers` scaled by e^t (a body's ln E moved
+    /// by t).
+    fn pairs_scaled(&self, mu: f64, followers: &[usize], t: f64) -> Vec<contact::ContactPair> {
+        let mut pairs = self.model.pairs_at(mu);
+        for &i in followers {
+            pairs[i].penalty *= t.exp();
+        }
+        pairs
+    }
+
+    /// du/dmu at the equilibrium of friction `mu`, and du/d ln E_b of each body (its
+    /// elastic forces K_b u, and the forces of the pairs whose penalty follows it), with one
+    /// factorisation ([`sensitivity::equilibrium_rate`]), on every rank; `None`, said in the
+    /// log, when they cannot be had (the point goes on without sensitivities). Collective.
     pub(super) fn equilibrium_rate(
         &self,
         comm: Comm<'_>,
         mu: f64,
         equilibrium: &statics::StaticSolution,
-    ) -> Option<Vec<[f64; 3]>> {
+    ) -> Option<Rates> {
         let Operators {
             dofs,
             stiffness,
@@ -152,20 +220,143 @@ impl FullModel<'_> {
             constraints: constraints.as_ref(),
             linear: &self.cea.linear,
         };
+        let mesh = &self.model.mesh;
+        let u = &equilibrium.displacement;
+        // The same mesh and displacement on every rank: the same answer on every rank.
+        let forces = match body_stiffness::body_forces(mesh, &u[..mesh.nodes.len().min(u.len())]) {
+            Ok(f) => f,
+            Err(e) => {
+                tracing::warn!("mu {mu}: no sensitivities: the bodies' forces failed: {e}");
+                return None;
+            }
+        };
+        let followers = self.penalty_followers();
+        let bodies: Vec<(String, Vec<[f64; 3]>, Vec<usize>)> = forces
+            .into_iter()
+            .map(|(body, mut f)| {
+                f.resize(u.len(), [0.0; 3]);
+                let follow = followers.get(&body).cloned().unwrap_or_default();
+                (body, f, follow)
+            })
+            .collect();
+        let ahead = self.model.pairs_at(mu + sensitivity::STEP);
+        let scaled: Vec<Option<Vec<contact::ContactPair>>> = bodies
+            .iter()
+            .map(|(_, _, follow)| {
+                (!follow.is_empty()).then(|| self.pairs_scaled(mu, follow, sensitivity::STEP))
+            })
+            .collect();
+        let mut perturbations = vec![sensitivity::Perturbation {
+            forces: None,
+            pairs_ahead: Some(&ahead),
+        }];
+        for ((_, f, _), pairs) in bodies.iter().zip(&scaled) {
+            perturbations.push(sensitivity::Perturbation {
+                forces: Some(f),
+                pairs_ahead: pairs.as_deref(),
+            });
+        }
         match sensitivity::equilibrium_rate(
             comm,
             &layout,
             &self.model.pairs_at(mu),
-            &self.model.pairs_at(mu + sensitivity::STEP),
             &equilibrium.slip_after,
-            &equilibrium.displacement,
+            u,
+            &perturbations,
         ) {
-            Ok(du) => Some(du),
+            Ok(mut rates) => {
+                let friction = rates.remove(0);
+                Some(Rates {
+                    friction,
+                    bodies: bodies
+                        .into_iter()
+                        .zip(rates)
+                        .map(|((body, _, follow), du)| BodyRate {
+                            body,
+                            followers: follow,
+                            du,
+                        })
+                        .collect(),
+                })
+            }
             Err(e) => {
-                tracing::warn!("mu {mu}: no friction sensitivities: du/dmu failed: {e}");
+                tracing::warn!("mu {mu}: no sensitivities: du/dmu failed: {e}");
                 None
             }
         }
+    }
+
+    /// How `mode` moves with each body's Young's modulus (see
+    /// [`sensitivity::ModulusSensitivity`]); `None`, said in the log, where it cannot be had.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn modulus_sensitivities(
+        &self,
+        mode: &cea::ComplexMode,
+        mu: f64,
+        equilibrium: &statics::StaticSolution,
+        re: &[[f64; 3]],
+        im: &[[f64; 3]],
+        left: &LeftShape,
+        rates: &Rates,
+    ) -> Option<BTreeMap<String, ModulusSensitivity>> {
+        let x = growth::Shape { re, im };
+        let y = growth::Shape {
+            re: &left.re,
+            im: &left.im,
+        };
+        let elastic = match body_stiffness::body_stiffness_forms(&self.model.mesh, &[(y, x)]) {
+            Ok(mut forms) => forms.remove(0),
+            Err(e) => {
+                tracing::warn!(
+                    "no modulus sensitivities of the mode at {:.1} Hz: {e}",
+                    mode.frequency_hz
+                );
+                return None;
+            }
+        };
+        let still = vec![[0.0; 3]; equilibrium.displacement.len()];
+        let mut out = BTreeMap::new();
+        for rate in &rates.bodies {
+            let Some(&elastic) = elastic.get(&rate.body) else {
+                continue;
+            };
+            // y^H (dJ/dt) x with t = ln E_b: the followers' penalty, and the equilibrium.
+            let contact = |du: &[[f64; 3]]| {
+                sensitivity::tangent_rate(
+                    |t| self.pairs_scaled(mu, &rate.followers, t),
+                    0.0,
+                    &equilibrium.slip_after,
+                    &equilibrium.displacement,
+                    du,
+                    y,
+                    x,
+                )
+            };
+            match (contact(&rate.du), contact(&still)) {
+                (Ok(Some((total, one_sided))), Ok(Some((own, _)))) => {
+                    let s = sensitivity::sensitivity(
+                        mode.lambda,
+                        left.mass_form,
+                        elastic + total,
+                        elastic + own,
+                        one_sided,
+                    );
+                    out.insert(rate.body.clone(), ModulusSensitivity::from(s));
+                }
+                (Err(e), _) | (_, Err(e)) => tracing::warn!(
+                    "no sensitivity of the mode at {:.1} Hz to {}'s modulus: {e}",
+                    mode.frequency_hz,
+                    rate.body
+                ),
+                _ => tracing::warn!(
+                    "no sensitivity of the mode at {:.1} Hz to {}'s modulus: contact points \
+                     change state both ways",
+                    mode.frequency_hz,
+                    rate.body
+                ),
+            }
+        }
+        (!out.is_empty()).then_some(out)
     }
 
     /// The friction sensitivity of `mode` (shape `re`, `im`, left eigenvector `left`) at the
