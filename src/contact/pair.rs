@@ -627,13 +627,7 @@ fn project_slave_nodes(
     options.check().map_err(invalid)?;
     check_surface(mesh, master, "master").map_err(invalid)?;
 
-    let faces: Vec<[[f64; 3]; 6]> = master
-        .faces
-        .iter()
-        .map(|f| f.nodes.map(|n| mesh.nodes[n]))
-        .collect();
-    let search = SurfaceSearch::new(faces).map_err(|k| {
-        let face = &master.faces[k];
+    let search = SurfaceSearch::of_surface(mesh, master).map_err(|face| {
         invalid(format!(
             "face S{} of element {} on the master surface '{}' is degenerate (zero area or \
              non-finite coordinates)",

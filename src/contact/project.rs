@@ -420,6 +420,20 @@ impl SurfaceSearch {
         Ok(search)
     }
 
+    /// A search over the faces of `surface` of `mesh`; `Err` with the first degenerate face
+    /// (see [`SurfaceSearch::new`]).
+    pub fn of_surface(
+        mesh: &crate::mesh::Mesh,
+        surface: &crate::mesh::Surface,
+    ) -> Result<Self, crate::mesh::Face> {
+        let faces = surface
+            .faces
+            .iter()
+            .map(|f| f.nodes.map(|n| mesh.nodes[n]))
+            .collect();
+        SurfaceSearch::new(faces).map_err(|k| surface.faces[k])
+    }
+
     /// `sqrt` of the mean face area: the face size `h` of the default penalty and of the
     /// default largest contact distance.
     pub fn mean_face_size(&self) -> f64 {

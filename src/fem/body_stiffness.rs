@@ -41,7 +41,6 @@ pub fn body_stiffness_forms(
     mesh: &Mesh,
     modes: &[(Shape<'_>, Shape<'_>)],
 ) -> Result<Vec<BTreeMap<String, Complex64>>, AssemblyError> {
-    let materials = element_materials(mesh)?;
     for (y, x) in modes {
         for s in [y, x] {
             check_length(mesh, s.re.len().min(s.im.len()))?;
@@ -49,29 +48,42 @@ pub fn body_stiffness_forms(
     }
     let mut out = vec![BTreeMap::new(); modes.len()];
     let at = |s: &Shape<'_>, n: usize, c: usize| Complex64::new(s.re[n][c], s.im[n][c]);
-    for part in &mesh.parts {
-        let mut sums = vec![Complex64::new(0.0, 0.0); modes.len()];
-        for &e in &part.elements {
-            let conn = &mesh.elements[e];
-            let x = conn.map(|n| mesh.nodes[n]);
-            let m = materials[e];
-            let k = element::stiffness(&x, m.young, m.poisson)
-                .map_err(|reason| element_error(mesh, e, &part.name, reason))?;
-            for ((ys, xs), sum) in modes.iter().zip(&mut sums) {
-                let xe: Vec<Complex64> = (0..30).map(|i| at(xs, conn[i / 3], i % 3)).collect();
-                for i in 0..30 {
-                    let yi = at(ys, conn[i / 3], i % 3).conj();
-                    let row: Complex64 = k[i].iter().zip(&xe).map(|(kij, xj)| kij * xj).sum();
-                    *sum += yi * row;
-                }
+    each_element(mesh, |part, conn, k| {
+        for ((ys, xs), map) in modes.iter().zip(&mut out) {
+            let xe: Vec<Complex64> = (0..30).map(|i| at(xs, conn[i / 3], i % 3)).collect();
+            let mut sum = Complex64::new(0.0, 0.0);
+            for (i, row) in k.iter().enumerate() {
+                let yi = at(ys, conn[i / 3], i % 3).conj();
+                sum += yi
+                    * row
+                        .iter()
+                        .zip(&xe)
+                        .map(|(kij, xj)| kij * xj)
+                        .sum::<Complex64>();
             }
-        }
-        for (map, sum) in out.iter_mut().zip(sums) {
-            *map.entry(part.name.clone())
+            *map.entry(part.to_string())
                 .or_insert(Complex64::new(0.0, 0.0)) += sum;
         }
-    }
+    })?;
     Ok(out)
+}
+
+/// Calls `f` with each element's part name, nodes and stiffness matrix, part by part.
+fn each_element(
+    mesh: &Mesh,
+    mut f: impl FnMut(&str, &[usize; 10], &element::ElementMatrix),
+) -> Result<(), AssemblyError> {
+    let materials = element_materials(mesh)?;
+    for part in &mesh.parts {
+        for &e in &part.elements {
+            let conn = &mesh.elements[e];
+            let m = materials[e];
+            let k = element::stiffness(&conn.map(|n| mesh.nodes[n]), m.young, m.poisson)
+                .map_err(|reason| element_error(mesh, e, &part.name, reason))?;
+            f(&part.name, conn, &k);
+        }
+    }
+    Ok(())
 }
 
 /// The nodal forces K_b u of each body (each part of `mesh`, by name) at the displacement
@@ -80,25 +92,23 @@ pub fn body_forces(
     mesh: &Mesh,
     u: &[[f64; 3]],
 ) -> Result<BTreeMap<String, Vec<[f64; 3]>>, AssemblyError> {
-    let materials = element_materials(mesh)?;
     check_length(mesh, u.len())?;
-    let mut out = BTreeMap::new();
-    for part in &mesh.parts {
-        let forces: &mut Vec<[f64; 3]> = out
-            .entry(part.name.clone())
-            .or_insert_with(|| vec![[0.0; 3]; u.len()]);
-        for &e in &part.elements {
-            let conn = &mesh.elements[e];
-            let x = conn.map(|n| mesh.nodes[n]);
-            let m = materials[e];
-            let k = element::stiffness(&x, m.young, m.poisson)
-                .map_err(|reason| element_error(mesh, e, &part.name, reason))?;
-            for i in 0..30 {
-                let f: f64 = (0..30).map(|j| k[i][j] * u[conn[j / 3]][j % 3]).sum();
-                forces[conn[i / 3]][i % 3] += f;
-            }
+    let mut out: BTreeMap<String, Vec<[f64; 3]>> = mesh
+        .parts
+        .iter()
+        .map(|p| (p.name.clone(), vec![[0.0; 3]; u.len()]))
+        .collect();
+    each_element(mesh, |part, conn, k| {
+        let forces = out.get_mut(part).expect("every part has its forces");
+        for (i, row) in k.iter().enumerate() {
+            let f: f64 = row
+                .iter()
+                .enumerate()
+                .map(|(j, kij)| kij * u[conn[j / 3]][j % 3])
+                .sum();
+            forces[conn[i / 3]][i % 3] += f;
         }
-    }
+    })?;
     Ok(out)
 }
 

@@ -67,13 +67,7 @@ pub(super) fn tie(deck: &Deck) -> Result<Ties, ModelError> {
             why: format!("*TIE {}: {why}", t.name),
         };
         let master = &mesh.surfaces[&t.master];
-        let faces: Vec<[[f64; 3]; 6]> = master
-            .faces
-            .iter()
-            .map(|f| f.nodes.map(|n| mesh.nodes[n]))
-            .collect();
-        let search = SurfaceSearch::new(faces).map_err(|k| {
-            let face = &master.faces[k];
+        let search = SurfaceSearch::of_surface(mesh, master).map_err(|face| {
             at(format!(
                 "face S{} of element {} on the master surface {} is degenerate",
                 face.side + 1,

@@ -616,14 +616,15 @@ pub fn reduce_interface(
                 .map(|c| c.area_weighted(&areas))
                 .collect::<Result<_, _>>()?;
         }
-        let faces: Vec<[[f64; 3]; 6]> = master
-            .faces
-            .iter()
-            .map(|f| f.nodes.map(|n| mesh.nodes[n]))
-            .collect();
-        let search = SurfaceSearch::new(faces).map_err(|k| ReduceError::InvalidSurface {
-            surface: master_name.clone(),
-            why: format!("face {k} is degenerate"),
+        let search = SurfaceSearch::of_surface(mesh, master).map_err(|face| {
+            ReduceError::InvalidSurface {
+                surface: master_name.clone(),
+                why: format!(
+                    "face S{} of element {} is degenerate",
+                    face.side + 1,
+                    mesh.element_labels[face.element]
+                ),
+            }
         })?;
         // As far as a node-to-surface pair looks for its master point.
         let reach = search.mean_face_size();

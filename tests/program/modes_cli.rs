@@ -28,6 +28,11 @@ fn modes(ranks: usize, args: &[&str], out: &Path) -> Vec<f64> {
     all.extend_from_slice(&["-o", out_s]);
     let run = common::mpirun(ranks, squeal(), &all);
     assert!(run.status.success(), "{}", common::text(&run));
+    eigenvalues_in(out)
+}
+
+/// modes.json's eigenvalues (omega^2) in `out`.
+fn eigenvalues_in(out: &Path) -> Vec<f64> {
     let json: serde_json::Value =
         serde_json::from_slice(&std::fs::read(out.join("modes.json")).unwrap()).unwrap();
     json["modes"]
@@ -249,14 +254,7 @@ fn a_tie_across_a_gap_adjusts_the_slave_nodes_as_calculix_does() {
             moved,
             "{name}: {said}"
         );
-        let json: serde_json::Value =
-            serde_json::from_slice(&std::fs::read(out.join("modes.json")).unwrap()).unwrap();
-        let ours: Vec<f64> = json["modes"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .map(|m| m["eigenvalue"].as_f64().unwrap())
-            .collect();
+        let ours = eigenvalues_in(&out);
         assert_close(
             &ours,
             &theirs,
@@ -311,23 +309,13 @@ fn slave_nodes_out_of_tolerance_are_reported_and_a_tie_of_none_is_refused() {
             && said.contains("1130 at ("),
         "{said}"
     );
-    let read = |dir: &Path| -> Vec<f64> {
-        let json: serde_json::Value =
-            serde_json::from_slice(&std::fs::read(dir.join("modes.json")).unwrap()).unwrap();
-        json["modes"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .map(|m| m["eigenvalue"].as_f64().unwrap())
-            .collect()
-    };
     let reference = modes(
         1,
         &[&data("tied_pads_clamped.inp"), "--mass-rule", "gauss4"],
         &out.join("flat"),
     );
     assert_close(
-        &read(&out.join("some")),
+        &eigenvalues_in(&out.join("some")),
         &reference,
         1e-9,
         "untied top nodes",
