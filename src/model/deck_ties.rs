@@ -5,8 +5,11 @@
 //!
 //! - **Position tolerance.** A slave node farther than the tie's `POSITION TOLERANCE` from
 //!   the master surface (default [`DEFAULT_TOLERANCE`] times the master's face size, the
-//!   square root of its mean face area) is left untied, and a warning gives how many and
-//!   where, as Abaqus and CalculiX report them. A tie that ties no node stops the run.
+//!   square root of its mean face area: Abaqus bases its default on "the typical element
+//!   size of the main surface") is left untied, and a warning gives how many and where, as
+//!   Abaqus and CalculiX report them. A tie that ties no node stops the run. With `TIED
+//!   NSET=` the set's slave nodes are tied whatever their distance (one that projects on
+//!   no face is reported the same way), and the others are not.
 //! - **ADJUST=YES** (the default) moves each tied slave node onto its master point before
 //!   anything is assembled, so the tie stores no initial strain; every tie is projected on
 //!   the unmoved mesh first.
@@ -84,14 +87,19 @@ pub(super) fn tie(deck: &Deck) -> Result<Ties, ModelError> {
         // Nodes ADJUST moves by more than round-off of the face size, and the largest move.
         let (mut adjusted, mut farthest) = (0usize, 0.0f64);
         let round_off = 1e-9 * search.mean_face_size();
-        for &s in &t.slave_nodes {
+        // TIED NSET ties its nodes whatever their distance.
+        let (slaves, reach) = match &t.tied_nodes {
+            Some(nodes) => (nodes, f64::INFINITY),
+            None => (&t.slave_nodes, tolerance),
+        };
+        for &s in slaves {
             if on_master.contains(&s) {
                 continue;
             }
             let x = mesh.nodes[s];
             let hit = search
-                .nearest(x, IN_FACE, tolerance)
-                .filter(|h| h.distance <= tolerance);
+                .nearest(x, IN_FACE, reach)
+                .filter(|h| h.distance <= reach);
             let Some(hit) = hit else {
                 untied.push(s);
                 continue;
@@ -160,15 +168,24 @@ fn untied_warning(deck: &Deck, t: &DeckTie, untied: &[usize], tolerance: f64) ->
         0 => String::new(),
         k => format!(" and {k} more"),
     };
+    let (of, why) = match &t.tied_nodes {
+        Some(nodes) => (
+            format!("{} slave nodes of TIED NSET", nodes.len()),
+            format!("project on no face of the master surface {}", t.master),
+        ),
+        None => (
+            format!("{} slave nodes of {}", t.slave_nodes.len(), t.slave),
+            format!(
+                "lie farther than the position tolerance {tolerance:e} from the master surface {}",
+                t.master
+            ),
+        ),
+    };
     format!(
-        "{}: *TIE {}: {} of the {} slave nodes of {} lie farther than the position tolerance \
-         {tolerance:e} from the master surface {} and are not tied: {}{more}",
+        "{}: *TIE {}: {} of the {of} {why} and are not tied: {}{more}",
         t.source,
         t.name,
         untied.len(),
-        t.slave_nodes.len(),
-        t.slave,
-        t.master,
         named.join(", ")
     )
 }

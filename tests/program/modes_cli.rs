@@ -268,7 +268,9 @@ fn a_tie_across_a_gap_adjusts_the_slave_nodes_as_calculix_does() {
 /// and place, as Abaqus and CalculiX report them: pad 1 tied through a node-based surface of
 /// its 63 bottom nodes and 4 of its top nodes (5 mm from the plate) gives the modes of the
 /// deck that ties the bottom alone (the same constraints: asked 1e-9) and a warning naming
-/// the 4. A tie whose every slave node is out of tolerance stops the run at its line.
+/// the 4. A tie whose every slave node is out of tolerance stops the run at its line. With
+/// Abaqus's TIED NSET= instead of a tolerance, the set's slave nodes are tied whatever
+/// their distance: the lifted deck's CalculiX eigenvalues again (1e-8).
 #[test]
 fn slave_nodes_out_of_tolerance_are_reported_and_a_tie_of_none_is_refused() {
     let flat = std::fs::read_to_string(data("tied_pads_clamped.inp")).unwrap();
@@ -309,14 +311,14 @@ fn slave_nodes_out_of_tolerance_are_reported_and_a_tie_of_none_is_refused() {
             && said.contains("1130 at ("),
         "{said}"
     );
-    let reference = modes(
+    let bottom_only = modes(
         1,
         &[&data("tied_pads_clamped.inp"), "--mass-rule", "gauss4"],
         &out.join("flat"),
     );
     assert_close(
         &eigenvalues_in(&out.join("some")),
-        &reference,
+        &bottom_only,
         1e-9,
         "untied top nodes",
     );
@@ -350,6 +352,36 @@ fn slave_nodes_out_of_tolerance_are_reported_and_a_tie_of_none_is_refused() {
         "{said}"
     );
     assert!(!out.join("tight").join("modes.json").exists());
+
+    // TIED NSET instead of a tolerance: the set's slave nodes are tied whatever their
+    // distance (here every bottom node, 10 um away, and 4 top nodes that are on no slave
+    // surface and so not tied): the lifted deck's CalculiX eigenvalues again.
+    let mut labels: Vec<String> = (1001..=1063)
+        .chain(2001..=2063)
+        .map(|n| n.to_string())
+        .collect();
+    labels.extend((1127..=1130).map(|n| n.to_string()));
+    let set: Vec<String> = labels.chunks(16).map(|c| c.join(", ")).collect();
+    let by_set = lifted
+        .replacen(
+            "*TIE",
+            &format!("*NSET, NSET=BOTTOMS\n{}\n*TIE", set.join("\n")),
+            1,
+        )
+        .replace("POSITION TOLERANCE=1e-4", "TIED NSET=BOTTOMS");
+    let deck = out.join("by-set.inp");
+    std::fs::write(&deck, &by_set).unwrap();
+    let ours = modes(
+        2,
+        &[deck.to_str().unwrap(), "--mass-rule", "gauss4"],
+        &out.join("by-set"),
+    );
+    assert_close(
+        &ours,
+        &reference("tied_pads_lifted.ccx.json"),
+        1e-8,
+        "TIED NSET vs CalculiX's tolerance",
+    );
 }
 
 /// A point mass m on a node of its own, held by three SPRING1 to ground of stiffness k_i

@@ -5,8 +5,12 @@
 //!
 //! - The slave surface is element-based (its faces' nodes, mid-edge nodes included) or
 //!   node-based; the master surface must have faces.
-//! - `NO ROTATION` and `NO THICKNESS` are read past: they concern shells' rotations and
-//!   thicknesses, which solid C3D10 nodes do not have.
+//! - `TIED NSET=` (Abaqus; instead of a position tolerance): only the slave nodes in that
+//!   node set are tied, whatever their distance to the master surface.
+//! - `NO ROTATION`, `NO THICKNESS`, `NO TEMPERATURE`, `NO PORE`, `NO ELECTRIC POTENTIAL`,
+//!   `NO FLUID ELECTRIC POTENTIAL`, `NO ION CONCENTRATION` are read past: they leave
+//!   untied DOFs (shells' rotations and thicknesses, temperatures, pore pressures...) that
+//!   squeal's solid nodes do not have.
 //! - What would tie something else than displacements across the two surfaces is refused at
 //!   the keyword's line: `CYCLIC SYMMETRY`, `MULTISTAGE`, `FLUID PERIODIC`, `FLUID CYCLIC`
 //!   (CalculiX's cyclic and fluid ties), `CONSTRAINT RATIO` (a slave point inside the
@@ -43,6 +47,9 @@ pub struct DeckTie {
     /// `POSITION TOLERANCE=`: a slave node farther than this from the master surface is
     /// left untied; `None` for the default (see [`crate::model`]).
     pub tolerance: Option<f64>,
+    /// `TIED NSET=`: the slave nodes to tie (those of the slave surface in this set, sorted),
+    /// whatever their distance; `None`: those within the position tolerance.
+    pub tied_nodes: Option<Vec<usize>>,
     /// `ADJUST=YES` (the default): tied slave nodes are moved onto the master surface.
     pub adjust: bool,
     pub kind: TieKind,
@@ -53,6 +60,7 @@ pub struct DeckTie {
 pub(super) struct TieDraft {
     name: String,
     tolerance: Option<f64>,
+    tied_nset: Option<Name>,
     adjust: bool,
     kind: TieKind,
     /// Slave and master as written, and the data line.
@@ -100,6 +108,13 @@ impl Reader {
                 Some(t)
             }
         };
+        let tied_nset = self.param(kw, "TIEDNSET")?.map(|n| Name::new(&n));
+        if tied_nset.is_some() && tolerance.is_some() {
+            return Err(self.err(
+                kw.loc,
+                "*TIE: POSITION TOLERANCE and TIED NSET exclude each other (give one)",
+            ));
+        }
         let adjust = match self.param(kw, "ADJUST")?.map(|a| a.to_uppercase()) {
             None => true,
             Some(a) if a == "YES" => true,
@@ -135,15 +150,24 @@ impl Reader {
                 }
             },
         };
-        // Shell parameters: nothing to tie on solid nodes.
-        kw.flag("NOROTATION");
-        kw.flag("NOTHICKNESS");
+        // DOFs left untied that solid displacement nodes do not have.
+        for untied in [
+            "NOROTATION",
+            "NOTHICKNESS",
+            "NOTEMPERATURE",
+            "NOPORE",
+            "NOELECTRICPOTENTIAL",
+            "NOFLUIDELECTRICPOTENTIAL",
+            "NOIONCONCENTRATION",
+        ] {
+            kw.flag(untied);
+        }
         if let Some(p) = kw.params.iter().find(|p| !p.used) {
             return Err(self.err(
                 kw.loc,
                 format!(
                     "*TIE: the parameter {} is not supported (squeal reads NAME, POSITION \
-                     TOLERANCE, ADJUST and TYPE)",
+                     TOLERANCE, TIED NSET, ADJUST and TYPE)",
                     p.key
                 ),
             ));
@@ -151,6 +175,7 @@ impl Reader {
         self.ties.push(TieDraft {
             name,
             tolerance,
+            tied_nset,
             adjust,
             kind,
             surfaces: None,
@@ -243,6 +268,32 @@ impl Reader {
                     ));
                 }
             }
+            let tied_nodes = match &draft.tied_nset {
+                None => None,
+                Some(set) => {
+                    let Some(members) = mesh.node_sets.get(&set.canon) else {
+                        return Err(self.err(
+                            draft.loc,
+                            format!("*TIE: TIED NSET={} is not defined", set.written),
+                        ));
+                    };
+                    let tied: Vec<usize> = slave_nodes
+                        .iter()
+                        .copied()
+                        .filter(|n| members.binary_search(n).is_ok())
+                        .collect();
+                    if tied.is_empty() {
+                        return Err(self.err(
+                            draft.loc,
+                            format!(
+                                "*TIE: TIED NSET={} holds no node of the slave surface {}",
+                                set.written, slave.written
+                            ),
+                        ));
+                    }
+                    Some(tied)
+                }
+            };
             if slave.canon == master.canon {
                 return Err(self.err(
                     *line,
@@ -258,6 +309,7 @@ impl Reader {
                 slave_nodes,
                 master: master.canon.clone(),
                 tolerance: draft.tolerance,
+                tied_nodes,
                 adjust: draft.adjust,
                 kind: draft.kind,
                 source: self.lines.source(*line),
@@ -309,6 +361,7 @@ mod tests {
         assert_eq!((t.tolerance, t.adjust), (None, true));
         assert_eq!(t.kind, TieKind::SurfaceToSurface);
         assert_eq!(t.slave_nodes, vec![0, 1]);
+        assert_eq!(t.tied_nodes, None);
         assert!(
             deck.warnings
                 .iter()
@@ -316,6 +369,13 @@ mod tests {
             "{:?}",
             deck.warnings
         );
+        // TIED NSET: the slave surface's nodes in the set; other DOFs' flags read past.
+        let deck = read_text(
+            "tie-nset",
+            &deck_with("*TIE, NAME=G, TIED NSET=NA, NO ROTATION, NO TEMPERATURE\nA, B\n"),
+        )
+        .unwrap();
+        assert_eq!(deck.ties[0].tied_nodes, Some(vec![0, 1]));
     }
 
     #[test]
@@ -329,6 +389,18 @@ mod tests {
                 "constraint ratio",
             ),
             ("*TIE, NAME=G, SMOOTH=0.2\nA, B\n", "the parameter SMOOTH"),
+            (
+                "*TIE, NAME=G, TIED NSET=NA, POSITION TOLERANCE=0.1\nA, B\n",
+                "exclude each other",
+            ),
+            (
+                "*TIE, NAME=G, TIED NSET=NOPE\nA, B\n",
+                "TIED NSET=NOPE is not defined",
+            ),
+            (
+                "*NSET, NSET=NC\n13\n*TIE, NAME=G, TIED NSET=NC\nB, A\n",
+                "holds no node of the slave surface B",
+            ),
             ("*TIE, NAME=G, ADJUST=MAYBE\nA, B\n", "ADJUST=MAYBE"),
             ("*TIE, NAME=G, TYPE=NODE\nA, B\n", "TYPE=NODE"),
             (
