@@ -45,6 +45,61 @@ impl FullModel<'_> {
         body_energy::mode_shares(&model.mesh, &model.point_masses, self.mass_rule, re, im)
     }
 
+    /// Each contact pair's part of the growth rate of the shape (`re`, `im` at every node of
+    /// the model) about the displacement `u` with slip history `after` ([`growth`]), with the
+    /// modal mass from the mesh's bodies; `None`, said in the log, where it cannot be had.
+    /// For a super-element's mode, the expanded shape in the reduced-interface model's pairs:
+    /// its parts add up to the real part to the expansion's error.
+    pub(in crate::study::sweep) fn pair_growth(
+        &self,
+        mode: &cea::ComplexMode,
+        pairs: &[contact::ContactPair],
+        after: &contact::SlipHistory,
+        u: &[[f64; 3]],
+        re: &[[f64; 3]],
+        im: &[[f64; 3]],
+    ) -> Option<BTreeMap<String, f64>> {
+        let model = &self.model;
+        let energies = body_energy::body_kinetic_energies(
+            &model.mesh,
+            &model.point_masses,
+            self.mass_rule,
+            re,
+            im,
+        );
+        let modal_mass: f64 = match energies {
+            Ok(e) => e.values().sum(),
+            Err(e) => {
+                tracing::warn!(
+                    "no pair shares of the mode at {:.1} Hz: {e}",
+                    mode.frequency_hz
+                );
+                return None;
+            }
+        };
+        let omega = mode.lambda.im;
+        if modal_mass <= 0.0 || omega <= 0.0 {
+            return None;
+        }
+        match growth::point_growth_rates(
+            pairs,
+            after,
+            u,
+            growth::Shape { re, im },
+            omega,
+            modal_mass,
+        ) {
+            Ok(points) => Some(growth::pair_growth_rates(pairs, &points)),
+            Err(e) => {
+                tracing::warn!(
+                    "no pair shares of the mode at {:.1} Hz: {e}",
+                    mode.frequency_hz
+                );
+                None
+            }
+        }
+    }
+
     /// What an unstable mode's shape says of its cause (`re`, `im` at every node of the
     /// model): its bodies' shares of kinetic energy and its pairs' parts of the growth rate
     /// ([`growth`]), at the equilibrium its CEA was made about; returns where on the pad

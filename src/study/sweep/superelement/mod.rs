@@ -687,9 +687,27 @@ impl<'rt> FrictionModel<'rt> for SuperElementModel<'rt> {
             if let Some((_, cea, ..)) = &dense.root {
                 let mesh = &self.base.model.mesh;
                 let dofs = &self.base.operators().dofs;
-                let re = mesh_part(dofs.displacements(&parts[0]), mesh);
-                let im = mesh_part(dofs.displacements(&parts[1]), mesh);
+                let (re, im) = (dofs.displacements(&parts[0]), dofs.displacements(&parts[1]));
                 let mut mode = cea.modes[j].clone();
+                // The pairs' parts from the expanded shape, in the reduced-interface model's
+                // pairs (the boundary's laws are theirs), about the equilibrium the modes'
+                // residuals are checked at (see there).
+                let (u_tangent, slip_tangent) = match &choice.equilibrium {
+                    Some(e) => (&e.displacement, &e.slip_after),
+                    None => (&u_static, &slip_static),
+                };
+                let growth = self.base.pair_growth(
+                    &mode,
+                    &self.base.model.pairs_at(mu),
+                    slip_tangent,
+                    u_tangent,
+                    &re,
+                    &im,
+                );
+                mode.pair_shares = growth.as_ref().map(crate::analysis::growth::shares);
+                mode.pair_growth = growth;
+                let re = mesh_part(re, mesh);
+                let im = mesh_part(im, mesh);
                 mode.body_shares = self.base.body_shares(&re, &im);
                 unstable.push(UnstableShape {
                     mode,
