@@ -151,6 +151,21 @@ fn a_study_runs_its_stages_reports_them_and_reruns_only_what_changed() {
 
     // The report's numbers are the comparison's: each row of compare.json, printed.
     let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    // The spring-held brake's instabilities have sensitivities (friction and moduli): their
+    // table is in the report.
+    assert!(report.contains("| d Re / d mu (1/s) |"), "{report}");
+    let full = json(&out.join("full").join("sweep.json"));
+    let with: Vec<&Value> = full["points"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .flat_map(|p| p["eigenvalues"].as_array().unwrap())
+        .filter(|m| m["sensitivity"].is_object())
+        .collect();
+    assert!(!with.is_empty());
+    assert!(with
+        .iter()
+        .all(|m| m["modulus_sensitivity"]["disc"].is_object()));
     let html = std::fs::read_to_string(out.join("report.html")).unwrap();
     let mut rows = 0;
     for stage in ["compare-reduced", "compare-superelements"] {

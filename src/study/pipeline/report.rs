@@ -283,6 +283,7 @@ impl Report {
              over their sum (the parts add up to the real part; a negative share takes energy \
              out of the mode).",
         ));
+        blocks.extend(sensitivity_table(&full, &instabilities));
         for (file, caption) in [
             ("stability_map.svg", "Stability map of the full model"),
             (
@@ -736,6 +737,71 @@ fn shares_table(
     vec![
         Block::Paragraph(caption.into()),
         Block::Table { header, rows },
+    ]
+}
+
+/// How each instability moves at its largest real part, where its sensitivities were
+/// computed (models whose kept contacts do not slip): with the swept friction, and with the
+/// Young's modulus of the body that moves its real part most. Empty when none has them.
+fn sensitivity_table(
+    full: &SweepDocument,
+    instabilities: &[crate::analysis::tracking::Instability],
+) -> Vec<Block> {
+    let mut rows = Vec::new();
+    for i in instabilities {
+        let Some(m) = crate::results::mode_at_max(&full.points, i) else {
+            continue;
+        };
+        let Some(s) = &m.sensitivity else { continue };
+        let side = if s.one_sided { " (one-sided)" } else { "" };
+        let body = m
+            .modulus_sensitivity
+            .as_ref()
+            .and_then(|b| {
+                b.iter().max_by(|x, y| {
+                    x.1.d_real_part_d_ln_young
+                        .abs()
+                        .total_cmp(&y.1.d_real_part_d_ln_young.abs())
+                })
+            })
+            .map_or("-".to_string(), |(name, b)| {
+                format!(
+                    "{name}: Re {:+.3} 1/s, f {:+.2} Hz",
+                    0.01 * b.d_real_part_d_ln_young,
+                    0.01 * b.d_frequency_hz_d_ln_young
+                )
+            });
+        rows.push(vec![
+            format!("{:.1} Hz", i.frequency_hz_at_max),
+            format!("{:.2}", i.mu_at_max),
+            format!("{:.1}{side}", s.d_real_part_d_mu),
+            format!("{:.2}{side}", s.d_frequency_hz_d_mu),
+            body,
+        ]);
+    }
+    if rows.is_empty() {
+        return Vec::new();
+    }
+    vec![
+        Block::Paragraph(
+            "How it moves: at its largest real part, the derivatives with the swept friction \
+             (from the mode's left eigenvector, the sliding equilibrium's change included), \
+             and the body whose Young's modulus moves the real part most, per 1 % stiffer \
+             (first order; sweep.json has every body's)."
+                .into(),
+        ),
+        Block::Table {
+            header: [
+                "instability",
+                "at mu",
+                "d Re / d mu (1/s)",
+                "d f / d mu (Hz)",
+                "1 % stiffer, the most telling body",
+            ]
+            .map(String::from)
+            .to_vec(),
+            rows,
+        },
     ]
 }
 
