@@ -63,6 +63,11 @@ struct StudyFlags {
     /// reduced interface's patch laws are not (a model with nothing to move is not checked).
     #[arg(long, value_name = "POINTS")]
     contact_edge_points: Option<usize>,
+    /// Bodies' shares and the pairs' parts of the growth rate for every mode, not only the
+    /// unstable ones (study key `analysis.contributions_of_every_mode`; full-size and
+    /// reduced-interface models).
+    #[arg(long)]
+    contributions_of_every_mode: bool,
     /// Write the study (after the command-line changes; for `study`, its [comparison] plan
     /// filled in) to this TOML file and stop: a starting point for your own.
     #[arg(long)]
@@ -78,6 +83,7 @@ impl StudyFlags {
             max_frequency_hz: self.fmax,
             output: self.output,
             contact_edge_points: self.contact_edge_points,
+            contributions_of_every_mode: self.contributions_of_every_mode,
             ..Default::default()
         };
         (args, self.study, self.write_study)

@@ -79,6 +79,15 @@ pub struct AnalysisSpec {
     /// modes and instabilities the mesh's edge decides. 0: not done (two more CEAs a point).
     #[serde(default, skip_serializing_if = "is_zero")]
     pub contact_edge_points: usize,
+    /// Body shares and the contact pairs' parts of the growth rate for every mode of a
+    /// full-size or reduced-interface model, not only the unstable ones (a stable mode's
+    /// parts add up to its zero real part: which pair feeds it and which takes it out).
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub contributions_of_every_mode: bool,
+}
+
+fn is_false(b: &bool) -> bool {
+    !*b
 }
 
 fn is_zero(n: &usize) -> bool {
@@ -96,6 +105,7 @@ impl Default for AnalysisSpec {
             window: default_window(),
             mass_rule: Default::default(),
             contact_edge_points: 0,
+            contributions_of_every_mode: false,
         }
     }
 }

@@ -63,6 +63,8 @@ pub struct FullModel<'rt> {
     /// At each point, the CEA again with this many points of the contact zone's edge opened,
     /// then closed ([`crate::analysis::contact_edge`]); 0: not done.
     edge_points: usize,
+    /// Contributions of the stable modes too (`analysis.contributions_of_every_mode`).
+    every_mode: bool,
     /// The mass rule M was assembled with: the bodies' shares of a mode's kinetic energy
     /// use the same.
     mass_rule: MassRule,
@@ -153,6 +155,7 @@ impl<'rt> FullModel<'rt> {
         };
         let mut full = Self::new(comm, model, operators, cea, analysis.increments);
         full.edge_points = analysis.contact_edge_points;
+        full.every_mode = analysis.contributions_of_every_mode;
         full.mass_rule = analysis.mass_rule;
         if let Some((spread, reduced)) = reduction {
             full.spread = spread;
@@ -202,6 +205,7 @@ impl<'rt> FullModel<'rt> {
             earlier: None,
             reduced: None,
             edge_points: 0,
+            every_mode: false,
             mass_rule: MassRule::default(),
         }
     }
@@ -658,6 +662,17 @@ impl<'rt> FrictionModel<'rt> for FullModel<'rt> {
                         im,
                         feed,
                     });
+                } else if self.every_mode && !mode.rigid_body {
+                    // The parts add up to the real part: a coupled pair's stable partner has
+                    // them negative; a mode with no real part (to the unstable threshold) has
+                    // parts that cancel, and shares of a zero sum say nothing: none then.
+                    let (re, im) = (dofs.displacements(&re), dofs.displacements(&im));
+                    let t_why = Instant::now();
+                    self.contributions(mode, pairs, &equilibrium, &re, &im);
+                    if mode.real_part.abs() <= self.cea.unstable_threshold * mode.lambda.norm() {
+                        mode.pair_shares = None;
+                    }
+                    why_seconds += t_why.elapsed().as_secs_f64();
                 }
             }
         }

@@ -136,6 +136,8 @@ pub struct SweepArgs {
     /// Points of the contact zones' edge moved at each point (study key
     /// `analysis.contact_edge_points`).
     pub contact_edge_points: Option<usize>,
+    /// Contributions of every mode (study key `analysis.contributions_of_every_mode`).
+    pub contributions_of_every_mode: bool,
 }
 
 /// What `squeal sweep`'s super-element flags change in the study's `[reduction]`.
@@ -250,6 +252,9 @@ pub fn study_from_args(
     }
     if let Some(r) = args.contact_edge_points {
         study.analysis.contact_edge_points = r;
+    }
+    if args.contributions_of_every_mode {
+        study.analysis.contributions_of_every_mode = true;
     }
     if let Some(o) = args.output {
         study.output = o;
