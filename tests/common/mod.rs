@@ -69,6 +69,23 @@ pub fn mpirun_spawn(
     (child, session)
 }
 
+/// The sum of a JSON object's numbers: an eigenvalue's shares or parts by name.
+pub fn sum_of(object: &serde_json::Value) -> f64 {
+    object
+        .as_object()
+        .expect("an object of numbers")
+        .values()
+        .map(|v| v.as_f64().unwrap())
+        .sum()
+}
+
+/// (frequency Hz, real part 1/s, |lambda| 1/s) of one entry of an `eigenvalues` array.
+pub fn lambda_of(m: &serde_json::Value) -> (f64, f64, f64) {
+    let f = m["frequency_hz"].as_f64().unwrap();
+    let re = m["real_part"].as_f64().unwrap();
+    (f, re, re.hypot(2.0 * std::f64::consts::PI * f))
+}
+
 /// (frequency Hz, real part 1/s, unstable) of each entry of a result's `eigenvalues` array
 /// (a `cea.json`, or a point of a `sweep.json`).
 pub fn eigenvalues_of(json: &serde_json::Value) -> Vec<(f64, f64, bool)> {

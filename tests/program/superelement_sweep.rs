@@ -641,21 +641,14 @@ fn a_superelements_unstable_modes_say_which_pair_feeds_them() {
     );
     let number = |v: &serde_json::Value| v.as_f64().unwrap();
     for (m, r) in se.iter().zip(&reduced) {
-        let f = number(&m["frequency_hz"]);
-        let re = number(&m["real_part"]);
-        let lambda = re.hypot(2.0 * std::f64::consts::PI * f);
-        let growth: f64 = m["pair_growth"]
-            .as_object()
-            .unwrap()
-            .values()
-            .map(number)
-            .sum();
+        let (f, re, lambda) = common::lambda_of(m);
+        let growth = common::sum_of(&m["pair_growth"]);
         assert!(
             (growth - re).abs() <= 1e-9 * lambda,
             "{f} Hz: the pairs' parts {growth} against the real part {re}"
         );
         let shares = m["pair_shares"].as_object().unwrap();
-        let sum: f64 = shares.values().map(number).sum();
+        let sum = common::sum_of(&m["pair_shares"]);
         assert!((sum - 1.0).abs() < 1e-9, "{f} Hz: shares sum to {sum}");
         assert!(shares.len() >= 2, "{f} Hz: {shares:?}");
         for (pair, share) in shares {

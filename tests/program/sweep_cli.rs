@@ -1252,28 +1252,15 @@ fn contributions_of_every_mode_add_up_to_each_real_part() {
         json["points"][0]["eigenvalues"].as_array().unwrap().clone()
     };
     let every = run(&["--contributions-of-every-mode"], "every-mode");
-    let number = |v: &serde_json::Value| v.as_f64().unwrap();
     let mut partners = 0;
     for m in &every {
-        let f = number(&m["frequency_hz"]);
-        let re = number(&m["real_part"]);
-        let lambda = re.hypot(2.0 * std::f64::consts::PI * f);
-        let bodies: f64 = m["body_shares"]
-            .as_object()
-            .unwrap()
-            .values()
-            .map(number)
-            .sum();
+        let (f, re, lambda) = common::lambda_of(m);
+        let bodies = common::sum_of(&m["body_shares"]);
         assert!(
             (bodies - 1.0).abs() < 1e-9,
             "{f} Hz: body shares sum to {bodies}"
         );
-        let growth: f64 = m["pair_growth"]
-            .as_object()
-            .unwrap()
-            .values()
-            .map(number)
-            .sum();
+        let growth = common::sum_of(&m["pair_growth"]);
         assert!(
             (growth - re).abs() <= 1e-6 * lambda,
             "{f} Hz: parts {growth} against the real part {re}"
