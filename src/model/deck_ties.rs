@@ -14,7 +14,8 @@
 //!   anything is assembled, so the tie stores no initial strain; every tie is projected on
 //!   the unmoved mesh first.
 //! - **Nodes on both sides** (a slave node that is also a node of the master surface) are
-//!   already one node: not tied.
+//!   already one node: not tied. A slave node of two ties is held by the first, and the
+//!   later one says how many it left (Abaqus keeps the first tie too).
 //! - **Supports.** The slave component is the one eliminated when it is free; when a support
 //!   holds it, the constraint eliminates a master component instead, so the master point is
 //!   held as the slave node is (the tie keeps holding); when the support holds every term,
@@ -64,6 +65,8 @@ pub(super) fn tie(deck: &Deck) -> Result<Ties, ModelError> {
     let mut out = Ties::default();
     let mut positions = mesh.nodes.clone();
     let mut moved = false;
+    // Each slave node's first tie: Abaqus keeps it and drops the later ones.
+    let mut tied_by: std::collections::BTreeMap<usize, &str> = Default::default();
     for t in &deck.ties {
         let at = |why: String| ModelError::AtLine {
             at: t.source.clone(),
@@ -86,6 +89,8 @@ pub(super) fn tie(deck: &Deck) -> Result<Ties, ModelError> {
         let mut tied = 0usize;
         // Nodes ADJUST moves by more than round-off of the face size, and the largest move.
         let (mut adjusted, mut farthest) = (0usize, 0.0f64);
+        // Slave nodes an earlier tie holds, by that tie's name.
+        let mut again: std::collections::BTreeMap<&str, usize> = Default::default();
         let round_off = 1e-9 * search.mean_face_size();
         // TIED NSET ties its nodes whatever their distance.
         let (slaves, reach) = match &t.tied_nodes {
@@ -94,6 +99,10 @@ pub(super) fn tie(deck: &Deck) -> Result<Ties, ModelError> {
         };
         for &s in slaves {
             if on_master.contains(&s) {
+                continue;
+            }
+            if let Some(first) = tied_by.get(&s) {
+                *again.entry(*first).or_default() += 1;
                 continue;
             }
             let x = mesh.nodes[s];
@@ -111,6 +120,7 @@ pub(super) fn tie(deck: &Deck) -> Result<Ties, ModelError> {
                 source: format!("{} (*TIE {})", t.source, t.name),
             });
             tied += 1;
+            tied_by.insert(s, &t.name);
             let distance = norm(sub(hit.point, x));
             if t.adjust && distance > 0.0 {
                 positions[s] = hit.point;
@@ -121,7 +131,7 @@ pub(super) fn tie(deck: &Deck) -> Result<Ties, ModelError> {
                 }
             }
         }
-        if tied == 0 {
+        if tied == 0 && again.is_empty() {
             return Err(at(format!(
                 "none of the {} slave nodes of {} lies within the position tolerance {tolerance:e} \
                  of the master surface {} (give POSITION TOLERANCE=, or check the surfaces)",
@@ -133,6 +143,13 @@ pub(super) fn tie(deck: &Deck) -> Result<Ties, ModelError> {
         if !untied.is_empty() {
             out.warnings
                 .push(untied_warning(deck, t, &untied, tolerance));
+        }
+        for (first, count) in &again {
+            out.warnings.push(format!(
+                "{}: *TIE {}: {count} of its slave nodes are slave nodes of *TIE {first} \
+                 already and are not tied again (the first tie holds them, as in Abaqus)",
+                t.source, t.name
+            ));
         }
         if adjusted > 0 {
             out.warnings.push(format!(

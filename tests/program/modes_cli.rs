@@ -384,6 +384,45 @@ fn slave_nodes_out_of_tolerance_are_reported_and_a_tie_of_none_is_refused() {
     );
 }
 
+/// A slave node of two ties is held by the first, and the second says how many it left (as
+/// Abaqus keeps the first tie): the first pad tied twice to the plate gives the modes of the
+/// deck that ties it once (asked 1e-9; the same constraints), where the repeated equations
+/// once stopped the run as redundant.
+#[test]
+fn a_slave_node_of_two_ties_is_held_by_the_first() {
+    let out = scratch("tied-twice");
+    let once = std::fs::read_to_string(data("tied_pads_clamped.inp")).unwrap();
+    let tie = "*TIE, NAME=GLUE1\nPAD1BOTTOM, PLATETOP\n";
+    let twice = once.replace(
+        tie,
+        &format!("{tie}*TIE, NAME=AGAIN\nPAD1BOTTOM, PLATETOP\n"),
+    );
+    let deck = out.join("twice.inp");
+    std::fs::write(&deck, twice).unwrap();
+    let result = out.join("twice");
+    let args = [
+        "modes",
+        deck.to_str().unwrap(),
+        "--mass-rule",
+        "gauss4",
+        "-o",
+        result.to_str().unwrap(),
+    ];
+    let run = common::mpirun(2, squeal(), &args);
+    let said = common::text(&run);
+    assert!(run.status.success(), "{said}");
+    assert!(
+        said.contains("*TIE AGAIN: 63 of its slave nodes are slave nodes of *TIE GLUE1 already"),
+        "{said}"
+    );
+    let reference = modes(
+        2,
+        &[&data("tied_pads_clamped.inp"), "--mass-rule", "gauss4"],
+        &out.join("once"),
+    );
+    assert_close(&eigenvalues_in(&result), &reference, 1e-9, "tied twice");
+}
+
 /// A point mass m on a node of its own, held by three SPRING1 to ground of stiffness k_i
 /// along x, y, z, beside a fully held tetrahedron: the only free DOFs are the mass's, and
 /// the eigenvalues are k_i / m exactly (400, 900, 1600), to round-off.
