@@ -189,6 +189,33 @@ pub fn largest_shares(shares: &std::collections::BTreeMap<String, f64>, count: u
         .join(", ")
 }
 
+/// The `count` bodies whose modulus moves a mode's real part most, as "disc: Re -1.230 1/s,
+/// f +0.41 Hz": a hundredth of the per-ln-E derivatives (1 % stiffer; first order, which
+/// near a coalescence holds only for smaller changes), largest |Re| first.
+pub fn stiffest_bodies(
+    moduli: &std::collections::BTreeMap<String, crate::analysis::sensitivity::ModulusSensitivity>,
+    count: usize,
+) -> String {
+    let mut rows: Vec<_> = moduli.iter().collect();
+    rows.sort_by(|a, b| {
+        b.1.d_real_part_d_ln_young
+            .abs()
+            .total_cmp(&a.1.d_real_part_d_ln_young.abs())
+            .then(a.0.cmp(b.0))
+    });
+    rows.iter()
+        .take(count)
+        .map(|(body, s)| {
+            format!(
+                "{body}: Re {:+.3} 1/s, f {:+.2} Hz",
+                0.01 * s.d_real_part_d_ln_young,
+                0.01 * s.d_frequency_hz_d_ln_young
+            )
+        })
+        .collect::<Vec<_>>()
+        .join("; ")
+}
+
 /// Fills what older versions did not write: each eigenvalue's `unstable` flag, by the CEA's
 /// own rule with the default threshold.
 fn migrate(doc: &mut serde_json::Value) {

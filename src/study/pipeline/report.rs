@@ -757,20 +757,7 @@ fn sensitivity_table(
         let body = m
             .modulus_sensitivity
             .as_ref()
-            .and_then(|b| {
-                b.iter().max_by(|x, y| {
-                    x.1.d_real_part_d_ln_young
-                        .abs()
-                        .total_cmp(&y.1.d_real_part_d_ln_young.abs())
-                })
-            })
-            .map_or("-".to_string(), |(name, b)| {
-                format!(
-                    "{name}: Re {:+.3} 1/s, f {:+.2} Hz",
-                    0.01 * b.d_real_part_d_ln_young,
-                    0.01 * b.d_frequency_hz_d_ln_young
-                )
-            });
+            .map_or("-".to_string(), |b| crate::results::stiffest_bodies(b, 1));
         rows.push(vec![
             format!("{:.1} Hz", i.frequency_hz_at_max),
             format!("{:.2}", i.mu_at_max),

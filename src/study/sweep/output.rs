@@ -319,34 +319,9 @@ pub fn summary_table(reports: &[SweepPointReport], instabilities: &[Instability]
         if let Some(moduli) = at_max.and_then(|m| m.modulus_sensitivity.as_ref()) {
             s.push_str(&format!(
                 "        a body 1 % stiffer moves it by (first order): {}\n",
-                stiffer(moduli)
+                crate::results::stiffest_bodies(moduli, 3)
             ));
         }
     }
     s
-}
-
-/// The bodies whose modulus moves the real part most, as "disc: Re -1.23 1/s, f +0.41 Hz":
-/// a hundredth of the per-ln-E derivatives (1 % stiffer; first order, which near a
-/// coalescence holds only for smaller changes), the three largest by |Re|.
-fn stiffer(
-    moduli: &std::collections::BTreeMap<String, crate::analysis::sensitivity::ModulusSensitivity>,
-) -> String {
-    let mut rows: Vec<_> = moduli.iter().collect();
-    rows.sort_by(|a, b| {
-        b.1.d_real_part_d_ln_young
-            .abs()
-            .total_cmp(&a.1.d_real_part_d_ln_young.abs())
-    });
-    rows.iter()
-        .take(3)
-        .map(|(body, s)| {
-            format!(
-                "{body}: Re {:+.3} 1/s, f {:+.2} Hz",
-                0.01 * s.d_real_part_d_ln_young,
-                0.01 * s.d_frequency_hz_d_ln_young
-            )
-        })
-        .collect::<Vec<_>>()
-        .join("; ")
 }
