@@ -9,6 +9,7 @@ pub mod distributing;
 pub mod dofs;
 pub mod element;
 pub mod loads;
+pub mod mass_sample;
 pub mod point_mass;
 pub mod springs;
 pub mod stress;

@@ -169,38 +169,6 @@ impl Model {
             })
             .collect()
     }
-
-    /// The nodes of the swept pairs' contact points (slave and master side) and the nodes
-    /// tied to them by coupling springs, sorted: where the friction coupling happens, and
-    /// where mode shapes are compared for tracking.
-    pub fn swept_nodes(&self) -> Vec<usize> {
-        let mut nodes: Vec<usize> = self
-            .pairs
-            .iter()
-            .zip(&self.swept)
-            .filter(|(_, &s)| s)
-            .flat_map(|(p, _)| {
-                p.points
-                    .iter()
-                    .flat_map(|pt| pt.slave.iter().chain(&pt.master))
-            })
-            .map(|&(n, _)| n)
-            .collect();
-        nodes.sort_unstable();
-        nodes.dedup();
-        // A reduced interface's contact nodes stand for the surface nodes they are tied to:
-        // those carry the coupling too (and are what another model of the brake shares).
-        let mut tied: Vec<usize> = self
-            .couplings
-            .iter()
-            .filter(|c| c.terms.iter().any(|t| nodes.binary_search(&t.0).is_ok()))
-            .flat_map(|c| c.terms.iter().map(|t| t.0))
-            .collect();
-        nodes.append(&mut tied);
-        nodes.sort_unstable();
-        nodes.dedup();
-        nodes
-    }
 }
 
 #[cfg(test)]

@@ -176,6 +176,27 @@ pub fn mode_at_max<'a>(
         .min_by(|a, b| distance(a).total_cmp(&distance(b)))
 }
 
+/// "mu 0.30-0.40 (regret 0.031, frequency -4.1 %), ...": the uncertain links an instability
+/// stands on, or `None` when it stands on trusted ones only.
+pub fn uncertain_links(i: &crate::analysis::tracking::Instability) -> Option<String> {
+    (!i.uncertain_links.is_empty()).then(|| {
+        i.uncertain_links
+            .iter()
+            .map(|u| {
+                format!(
+                    "track {} mu {:.2}-{:.2} (regret {:.3}, frequency {:+.1} %)",
+                    u.track,
+                    u.from_mu,
+                    u.to_mu,
+                    u.regret,
+                    100.0 * u.frequency_change
+                )
+            })
+            .collect::<Vec<_>>()
+            .join(", ")
+    })
+}
+
 /// "pad_outboard_backplate 50 %, pad_outboard_friction 24 %, caliper 17 %": the `count`
 /// bodies with the largest shares, largest first.
 pub fn largest_shares(shares: &std::collections::BTreeMap<String, f64>, count: usize) -> String {

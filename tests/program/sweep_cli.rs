@@ -106,7 +106,27 @@ fn sweep_of_the_builtin_brake_writes_a_complete_study() {
         }
         assert!(!p["eigenvalues"].as_array().unwrap().is_empty());
     }
-    assert!(json["tracks"].as_array().is_some());
+    // Every link says how sure it is (its regret, >= 0) where it says its MAC; the log
+    // counts them.
+    let tracks = json["tracks"].as_array().unwrap();
+    let mut links = 0;
+    for t in tracks {
+        for (mac, regret) in t["link_mac"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .zip(t["link_regret"].as_array().unwrap())
+        {
+            assert_eq!(mac.is_null(), regret.is_null(), "{t}");
+            links += usize::from(!mac.is_null());
+            assert!(regret.is_null() || regret.as_f64().unwrap() >= 0.0, "{t}");
+        }
+    }
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(
+        stderr.contains(&format!("tracking: {} tracks, {links} links", tracks.len())),
+        "{stderr}"
+    );
     assert!(json["instabilities"].as_array().is_some());
     for f in [
         "stability_map.svg",

@@ -266,6 +266,7 @@ impl Report {
                 .to_vec(),
                 rows,
             });
+            blocks.extend(uncertain_paragraph(&instabilities));
         }
         blocks.extend(shares_table(
             &full,
@@ -699,6 +700,36 @@ impl Report {
         write_file(&dir.join("report.md"), self.markdown().as_bytes())?;
         write_file(&dir.join("report.html"), self.html().as_bytes())
     }
+}
+
+/// The instabilities whose tracks cross an uncertain link, said with the links; nothing when
+/// every link they stand on is trusted.
+fn uncertain_paragraph(instabilities: &[crate::analysis::tracking::Instability]) -> Vec<Block> {
+    let items: Vec<Vec<String>> = instabilities
+        .iter()
+        .filter_map(|i| {
+            crate::results::uncertain_links(i)
+                .map(|links| vec![format!("{:.1} Hz", i.frequency_hz_at_max), links])
+        })
+        .collect();
+    if items.is_empty() {
+        return Vec::new();
+    }
+    vec![
+        Block::Paragraph(format!(
+            "{} of these instabilities stand on a link between friction values that another \
+             assignment of the modes explains almost as well (its regret, the rise of the \
+             total link cost if it is forbidden, below {}): there its onset, partner or \
+             largest real part may belong to a neighbouring mode, and a finer friction step \
+             settles it.",
+            items.len(),
+            crate::analysis::tracking::TRUSTED_REGRET
+        )),
+        Block::Table {
+            header: vec!["instability".into(), "uncertain links".into()],
+            rows: items,
+        },
+    ]
 }
 
 /// A table of one kind of share per instability, at its largest real part: a column per

@@ -43,9 +43,10 @@ pub struct FullModel<'rt> {
     /// Rayleigh damping, on the solver's unknowns.
     damping: Option<Matrix<'rt>>,
     bodies: Vec<Body>,
-    /// Equations on which mode shapes are compared for tracking: every DOF of the swept
-    /// pairs' nodes (where the friction coupling happens).
-    tracked_equations: Vec<usize>,
+    /// Where mode shapes are compared for tracking, and the square root of the mass each
+    /// equation stands for: the mesh's mass sample ([`crate::fem::mass_sample`]), so the
+    /// shapes' complex MAC is mass-weighted over every body.
+    tracked_equations: Vec<(usize, f64)>,
     cea: CeaOptions,
     rayleigh: Option<RayleighDamping>,
     increments: usize,
@@ -153,7 +154,8 @@ impl<'rt> FullModel<'rt> {
             modes_per_target: analysis.window,
             ..Default::default()
         };
-        let mut full = Self::new(comm, model, operators, cea, analysis.increments);
+        let mut full = Self::new(comm, model, operators, cea, analysis.increments)
+            .map_err(|e| StudyError::from(e).collective())?;
         full.edge_points = analysis.contact_edge_points;
         full.every_mode = analysis.contributions_of_every_mode;
         full.mass_rule = analysis.mass_rule;
@@ -174,12 +176,19 @@ impl<'rt> FullModel<'rt> {
         operators: Operators<'rt>,
         cea: CeaOptions,
         increments: usize,
-    ) -> Self {
+    ) -> Result<Self, crate::fem::AssemblyError> {
         let dofs = &operators.dofs;
-        let tracked_equations = model
-            .swept_nodes()
+        let sample = crate::fem::mass_sample::mass_sample(
+            &model.mesh,
+            crate::fem::mass_sample::SAMPLE_NODES,
+        )?;
+        let tracked_equations = sample
+            .nodes
             .iter()
-            .flat_map(|&n| (0..3).filter_map(move |c| dofs.equation(n, c)))
+            .zip(&sample.weights)
+            .flat_map(|(&n, &w)| {
+                (0..3).filter_map(move |c| dofs.equation(n, c).map(|e| (e, w.sqrt())))
+            })
             .collect();
         let spread = node_to_surface_spread(&model);
         let bodies = restraint::bodies(&model.mesh);
@@ -189,7 +198,7 @@ impl<'rt> FullModel<'rt> {
         if !bodies.is_empty() {
             cea.expected_rigid_modes.get_or_insert(0);
         }
-        FullModel {
+        Ok(FullModel {
             spread,
             bodies,
             model,
@@ -207,7 +216,7 @@ impl<'rt> FullModel<'rt> {
             edge_points: 0,
             every_mode: false,
             mass_rule: MassRule::default(),
-        }
+        })
     }
 
     /// Rayleigh damping: the CEA becomes the quadratic problem with C.
@@ -621,7 +630,7 @@ impl<'rt> FrictionModel<'rt> for FullModel<'rt> {
                 tracking_shapes.push(
                     self.tracked_equations
                         .iter()
-                        .map(|&e| Complex64::new(re[e], im[e]))
+                        .map(|&(e, w)| w * Complex64::new(re[e], im[e]))
                         .collect::<Vec<_>>(),
                 );
                 if mode.unstable {

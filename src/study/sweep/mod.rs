@@ -622,6 +622,18 @@ fn sweep_into<'rt>(
         return Ok(SweepSummary::default());
     }
     let tracks = tracking::track(&points, &TrackingOptions::default())?;
+    let links = tracking::LinkSummary::of(&points, &tracks, tracking::TRUSTED_REGRET);
+    tracing::info!(
+        "tracking: {} tracks, {} links between neighbouring friction values; {} uncertain \
+         (regret below {}), {} changing frequency by more than {:.0} % (at most {:.1} %)",
+        tracks.len(),
+        links.links,
+        links.uncertain,
+        tracking::TRUSTED_REGRET,
+        links.jumps,
+        100.0 * tracking::LinkSummary::JUMP,
+        100.0 * links.largest_jump
+    );
     let instabilities = tracking::instabilities(
         &points,
         &tracks,

@@ -303,6 +303,12 @@ pub fn summary_table(reports: &[SweepPointReport], instabilities: &[Instability]
             i.track,
             i.partner.map_or("-".into(), |p| p.to_string()),
         ));
+        if let Some(links) = crate::results::uncertain_links(i) {
+            s.push_str(&format!(
+                "        tracked across uncertain links (another assignment of the modes is \
+                 nearly as good): {links}\n"
+            ));
+        }
         let at_max = crate::results::mode_at_max(reports, i);
         if let Some(shares) = at_max.and_then(|m| m.body_shares.as_ref()) {
             s.push_str(&format!(
