@@ -103,6 +103,18 @@ pub fn eigenvalues_of(json: &serde_json::Value) -> Vec<(f64, f64, bool)> {
         .collect()
 }
 
+/// The unstable entries of a result's `eigenvalues` array (a `cea.json`, or a point of a
+/// `sweep.json`), whole, for the fields a test reads beyond frequency and real part.
+pub fn unstable_modes(json: &serde_json::Value) -> Vec<serde_json::Value> {
+    json["eigenvalues"]
+        .as_array()
+        .expect("an eigenvalues array")
+        .iter()
+        .filter(|m| m["unstable"].as_bool().expect("an unstable flag"))
+        .cloned()
+        .collect()
+}
+
 /// Whether the job was killed by the hang limit (`timeout` exits 124).
 pub fn hung(out: &Output) -> bool {
     out.status.code() == Some(124)

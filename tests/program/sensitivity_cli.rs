@@ -39,11 +39,9 @@ fn sweep(dir: &Path, ranks: usize, h: f64, extra: &[&str]) -> serde_json::Value 
 /// the neighbouring points' nearest unstable modes).
 fn checked(json: &serde_json::Value, h: f64) -> Vec<[f64; 5]> {
     let points = json["points"].as_array().unwrap();
-    let modes = |k: usize| points[k]["eigenvalues"].as_array().unwrap().clone();
     let nearest = |k: usize, f: f64| {
-        modes(k)
+        common::unstable_modes(&points[k])
             .into_iter()
-            .filter(|m| m["unstable"].as_bool().unwrap())
             .min_by(|a, b| {
                 let d = |m: &serde_json::Value| (m["frequency_hz"].as_f64().unwrap() - f).abs();
                 d(a).total_cmp(&d(b))
@@ -51,7 +49,7 @@ fn checked(json: &serde_json::Value, h: f64) -> Vec<[f64; 5]> {
             .unwrap()
     };
     let mut out = Vec::new();
-    for m in modes(1).iter().filter(|m| m["unstable"].as_bool().unwrap()) {
+    for m in &common::unstable_modes(&points[1]) {
         let f = m["frequency_hz"].as_f64().unwrap();
         let s = &m["sensitivity"];
         assert!(s.is_object(), "{f} Hz has no sensitivity: {m}");
@@ -232,13 +230,7 @@ fn unstable_at_06(dir: &Path, name: &str, study: &str, ranks: usize) -> Vec<serd
     assert!(run.status.success(), "{}", common::text(&run));
     let json: serde_json::Value =
         serde_json::from_slice(&std::fs::read(dir.join(name).join("sweep.json")).unwrap()).unwrap();
-    json["points"][0]["eigenvalues"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .filter(|m| m["unstable"].as_bool().unwrap())
-        .cloned()
-        .collect()
+    common::unstable_modes(&json["points"][0])
 }
 
 /// Each unstable mode's sensitivity to a body's Young's modulus (per unit of ln E, in

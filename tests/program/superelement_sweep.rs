@@ -622,13 +622,7 @@ fn a_superelements_unstable_modes_say_which_pair_feeds_them() {
         let a = args(&out, extra);
         let a: Vec<&str> = a.iter().map(String::as_str).collect();
         success(2, &a);
-        sweep_json(&out)["points"][0]["eigenvalues"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .filter(|m| m["unstable"].as_bool().unwrap())
-            .cloned()
-            .collect()
+        common::unstable_modes(&sweep_json(&out)["points"][0])
     };
     let reduced = unstable(&[], "reduced");
     let se = unstable(
