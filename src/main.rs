@@ -68,6 +68,11 @@ struct StudyFlags {
     /// reduced-interface models).
     #[arg(long)]
     contributions_of_every_mode: bool,
+    /// Insert up to this many friction values, each halfway between two neighbours whose
+    /// modes cannot be linked with confidence, solved from the lower one's equilibrium
+    /// (study key `analysis.refine_points`; the inserted points are marked in sweep.json).
+    #[arg(long, value_name = "POINTS")]
+    refine: Option<usize>,
     /// Write the study (after the command-line changes; for `study`, its [comparison] plan
     /// filled in) to this TOML file and stop: a starting point for your own.
     #[arg(long)]
@@ -84,6 +89,7 @@ impl StudyFlags {
             output: self.output,
             contact_edge_points: self.contact_edge_points,
             contributions_of_every_mode: self.contributions_of_every_mode,
+            refine_points: self.refine,
             ..Default::default()
         };
         (args, self.study, self.write_study)

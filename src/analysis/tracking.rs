@@ -21,7 +21,9 @@
 //! by when the link is forbidden and the rest re-assigned at their best. A high MAC is no
 //! proof (two modes with the same MAC to a mode of the point before are a tie); a regret
 //! near 0 is. Links below [`TRUSTED_REGRET`] are uncertain, and an instability that stands on
-//! one says so ([`Instability::uncertain_links`]).
+//! one says so ([`Instability::uncertain_links`]). Where links are uncertain or jump, a sweep
+//! can insert friction values between the two points (`analysis.refine_points`, the sweep's
+//! `refine` module) until they are sure or the step is an eighth of the asked one.
 //!
 //! An instability in the sense of mode coupling (METHOD.md section 4, Fazio et al. 2015) is
 //! a track whose real part becomes positive after its frequency has merged with another
@@ -129,6 +131,10 @@ pub struct UncertainLink {
     pub regret: f64,
     /// The relative change of frequency across the link.
     pub frequency_change: f64,
+    /// Whether some contact pair's counts of open, sticking and slipping points differ
+    /// between the two friction values (filled by the sweep, which has the contact states).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub contact_changed: bool,
 }
 
 /// One interval of mu over which a track is unstable.
@@ -490,7 +496,7 @@ fn check_points(points: &[SweepPoint]) -> Result<(), TrackingError> {
 }
 
 /// |f_i - f_j| / max(f_i, f_j), 0 when both are 0 Hz (rigid-body modes).
-fn relative_frequency_distance(a: Complex64, b: Complex64) -> f64 {
+pub fn relative_frequency_distance(a: Complex64, b: Complex64) -> f64 {
     let (fa, fb) = (a.im, b.im);
     let larger = fa.max(fb);
     if larger > 0.0 {
@@ -922,6 +928,7 @@ fn describe(
                 mac,
                 regret,
                 frequency_change: relative_frequency_distance(l0, l1),
+                contact_changed: false,
             })
         })
         .collect();

@@ -184,16 +184,69 @@ pub fn uncertain_links(i: &crate::analysis::tracking::Instability) -> Option<Str
             .iter()
             .map(|u| {
                 format!(
-                    "track {} mu {:.2}-{:.2} (regret {:.3}, frequency {:+.1} %)",
+                    "track {} mu {}-{} (regret {:.3}, frequency {:+.1} %{})",
                     u.track,
-                    u.from_mu,
-                    u.to_mu,
+                    friction_text(u.from_mu),
+                    friction_text(u.to_mu),
                     u.regret,
-                    100.0 * u.frequency_change
+                    100.0 * u.frequency_change,
+                    if u.contact_changed {
+                        ", the contact state changes"
+                    } else {
+                        ""
+                    }
                 )
             })
             .collect::<Vec<_>>()
             .join(", ")
+    })
+}
+
+/// A friction value as folders and tables show it: three decimals ("0.300"), or as many
+/// more as it needs to read back as itself (an inserted 0.1125), at most nine.
+pub fn friction_text(mu: f64) -> String {
+    (3..=9)
+        .map(|d| format!("{mu:.d$}"))
+        .find(|t| t.parse::<f64>() == Ok(mu))
+        .unwrap_or_else(|| format!("{mu:.9}"))
+}
+
+/// A friction value in a table or a sentence: two decimals where they say it all ("0.30"),
+/// else as [`friction_text`] (an inserted "0.125").
+pub fn friction_label(mu: f64) -> String {
+    let t = friction_text(mu);
+    match t.strip_suffix('0') {
+        Some(short) if t.len() == 5 => short.to_string(),
+        _ => t,
+    }
+}
+
+/// An instability whose frequency where it is first unstable and where it grows fastest
+/// differ by more than this fraction gets a word on how it got there.
+pub const DRIFT_SAID: f64 = 0.05;
+
+/// "first unstable at mu 0.413 (709.6 Hz), 5.0 % from its frequency at the largest real
+/// part (mu 0.90), along links that are all sure: ..." for an instability whose frequency
+/// where it is first unstable differs from the one where it grows fastest by more than
+/// [`DRIFT_SAID`] of the latter; `None` otherwise.
+pub fn frequency_drift(i: &crate::analysis::tracking::Instability) -> Option<String> {
+    let at_max = i.frequency_hz_at_max;
+    let apart = (i.frequency_hz_at_first_unstable - at_max).abs() / at_max;
+    (apart > DRIFT_SAID).then(|| {
+        format!(
+            "first unstable at mu {} ({:.1} Hz), {:.1} % from its frequency at the largest \
+             real part (mu {}), {}",
+            friction_label(i.first_unstable_mu),
+            i.frequency_hz_at_first_unstable,
+            100.0 * apart,
+            friction_label(i.mu_at_max),
+            if i.uncertain_links.is_empty() {
+                "along links that are all sure: the coupled pair's frequency changes with \
+                 friction"
+            } else {
+                "across the uncertain links said: the two ends may be two different modes"
+            }
+        )
     })
 }
 
@@ -318,6 +371,66 @@ pub(crate) mod fixture {
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn a_frequency_that_moves_more_than_five_percent_is_explained() {
+        use crate::analysis::tracking::{Instability, UncertainLink};
+        let mut i = Instability {
+            track: 0,
+            partner: Some(1),
+            onset_mu: 0.4,
+            onset_bracketed: true,
+            coalescence_mu: None,
+            frequency_hz_at_onset: 710.0,
+            first_unstable_mu: 0.413,
+            frequency_hz_at_first_unstable: 709.6,
+            max_real_part: 626.0,
+            mu_at_max: 0.9,
+            frequency_hz_at_max: 675.7,
+            restabilisation_mu: None,
+            uncertain_links: Vec::new(),
+        };
+        // 709.6 against 675.7 Hz: 5.02 % of the latter (4.78 % of the former).
+        let said = super::frequency_drift(&i).expect("more than 5 %");
+        assert!(
+            said.starts_with(
+                "first unstable at mu 0.413 (709.6 Hz), 5.0 % from its frequency at the largest \
+                 real part (mu 0.90), along links that are all sure"
+            ),
+            "{said}"
+        );
+        i.uncertain_links.push(UncertainLink {
+            track: 1,
+            from_mu: 0.5,
+            to_mu: 0.6,
+            mac: 0.9,
+            regret: 0.1,
+            frequency_change: 0.01,
+            contact_changed: true,
+        });
+        assert!(super::frequency_drift(&i)
+            .unwrap()
+            .contains("across the uncertain links"));
+        i.frequency_hz_at_max = 676.0;
+        assert_eq!(super::frequency_drift(&i), None);
+    }
+
+    #[test]
+    fn friction_labels_keep_two_decimals_where_they_say_it_all() {
+        assert_eq!(super::friction_label(0.3), "0.30");
+        assert_eq!(super::friction_label(0.125), "0.125");
+        assert_eq!(super::friction_label(0.1125), "0.1125");
+        assert_eq!(super::friction_label(1.0), "1.00");
+    }
+
+    #[test]
+    fn friction_values_read_back_as_themselves() {
+        assert_eq!(super::friction_text(0.3), "0.300");
+        assert_eq!(super::friction_text(0.35), "0.350");
+        assert_eq!(super::friction_text(0.1125), "0.1125");
+        assert_eq!(super::friction_text(113.0 / 1000.0), "0.113");
+        assert_eq!(super::friction_text(0.1 + 0.2), "0.300000000");
+    }
+
     use super::*;
     use serde_json::json;
 

@@ -36,6 +36,20 @@ pub struct SweepPointReport {
     /// (`analysis.contact_edge_points`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub contact_edge: Option<EdgeCheck>,
+    /// A friction value the sweep inserted between two others where tracking was unsure
+    /// (`analysis.refine_points`), solved from the lower neighbour's equilibrium.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub inserted: bool,
+    /// An inserted point's friction path: the values solved on the way to it (the asked
+    /// ones up to its lower neighbour's path), then its own. A sweep of exactly these values
+    /// gives its numbers. Empty for asked points, whose path is the asked list up to them.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub path: Vec<f64>,
+    /// Whether some pair's counts of open, sticking and slipping points differ from the point
+    /// before ([`Self::contact_state_differs`]): the links reaching this point cross a change
+    /// of the contact state, which can move modes at once however fine the step.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub contact_changed: bool,
 }
 
 /// The point's modes with the edge of the swept pairs' contact zones moved
@@ -77,6 +91,19 @@ impl EdgeCheck {
 }
 
 impl SweepPointReport {
+    /// Whether some pair has another count of open, sticking or slipping points at `other`:
+    /// the contact's state changed between the two friction values (a node changing state
+    /// while another changes back is not seen; the counts are what every point keeps).
+    pub fn contact_state_differs(&self, other: &SweepPointReport) -> bool {
+        let state = |r: &SweepPointReport| -> Vec<(String, usize, usize, usize)> {
+            r.contact
+                .iter()
+                .map(|c| (c.name.clone(), c.closed, c.stick, c.slip))
+                .collect()
+        };
+        state(self) != state(other)
+    }
+
     /// "; open/stick/slip points: name a/b/c, ..." for the pairs with sticking points (only
     /// Coulomb pairs stick); empty when none does.
     fn sticking_pairs(&self) -> String {

@@ -84,6 +84,11 @@ pub struct AnalysisSpec {
     /// parts add up to its zero real part: which pair feeds it and which takes it out).
     #[serde(default, skip_serializing_if = "is_false")]
     pub contributions_of_every_mode: bool,
+    /// Friction values a sweep may insert, each halfway between two neighbours whose modes
+    /// it cannot link with confidence (a link of regret below the tracking's trusted one, or
+    /// one that moves a mode's frequency by more than 5 %). 0: none.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub refine_points: usize,
 }
 
 fn is_false(b: &bool) -> bool {
@@ -106,6 +111,7 @@ impl Default for AnalysisSpec {
             mass_rule: Default::default(),
             contact_edge_points: 0,
             contributions_of_every_mode: false,
+            refine_points: 0,
         }
     }
 }

@@ -54,6 +54,11 @@ impl Progress {
         self.bar.set_message(text);
     }
 
+    /// `n` more steps than the bar was made with (points a sweep decided to add).
+    pub fn grow(&self, n: u64) {
+        self.bar.inc_length(n);
+    }
+
     /// One step done.
     pub fn step(&self) {
         self.bar.inc(1);

@@ -23,6 +23,7 @@ mod model_sources;
 mod modes_cli;
 mod outputs_cli;
 mod reference_solutions;
+mod refine_cli;
 mod refusals_cli;
 mod sensitivity_cli;
 mod study_cli;

@@ -64,7 +64,9 @@ pub(super) fn compare_zones(model: &str, reference: &Point, other: &Point) -> Ve
 }
 
 pub(super) fn read_contact(dir: &Path, mu: f64) -> Option<crate::results::ContactMap> {
-    let file = dir.join(format!("mu_{mu:.3}")).join("contact.json");
+    let file = dir
+        .join(crate::study::sweep::point_folder(mu))
+        .join("contact.json");
     serde_json::from_slice(&std::fs::read(file).ok()?).ok()
 }
 

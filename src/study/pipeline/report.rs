@@ -204,7 +204,7 @@ impl Report {
         let mut rows = Vec::new();
         let mut summary = Vec::new();
         for i in &instabilities {
-            let first_mu = format!("{:.2}", i.first_unstable_mu);
+            let first_mu = crate::results::friction_label(i.first_unstable_mu);
             let first_f = format!("{:.1} Hz", i.frequency_hz_at_first_unstable);
             // The onset between the samples: the coalescence of the pair's eigenvalues where
             // bracketed, else the real part's zero crossing.
@@ -221,7 +221,7 @@ impl Report {
                 first_f.clone(),
                 onset,
                 format!("{:.1}", i.max_real_part),
-                format!("{:.2}", i.mu_at_max),
+                crate::results::friction_label(i.mu_at_max),
             ]);
             let at_max = crate::results::mode_at_max(&full.points, i);
             let mut moves = at_max
@@ -267,6 +267,7 @@ impl Report {
                 rows,
             });
             blocks.extend(uncertain_paragraph(&instabilities));
+            blocks.extend(drift_paragraph(&instabilities));
         }
         blocks.extend(shares_table(
             &full,
@@ -721,7 +722,7 @@ fn uncertain_paragraph(instabilities: &[crate::analysis::tracking::Instability])
              assignment of the modes explains almost as well (its regret, the rise of the \
              total link cost if it is forbidden, below {}): there its onset, partner or \
              largest real part may belong to a neighbouring mode, and a finer friction step \
-             settles it.",
+             settles it (`analysis.refine_points` inserts values where links are uncertain).",
             items.len(),
             crate::analysis::tracking::TRUSTED_REGRET
         )),
@@ -730,6 +731,29 @@ fn uncertain_paragraph(instabilities: &[crate::analysis::tracking::Instability])
             rows: items,
         },
     ]
+}
+
+/// The instabilities whose frequency moves by more than 5 % between where they are first
+/// unstable and where they grow fastest, each with how it got there (one coupled pair
+/// moving with friction, or a track across uncertain links).
+fn drift_paragraph(instabilities: &[crate::analysis::tracking::Instability]) -> Vec<Block> {
+    let items: Vec<String> = instabilities
+        .iter()
+        .filter_map(|i| {
+            crate::results::frequency_drift(i)
+                .map(|d| format!("{:.1} Hz: {d}.", i.frequency_hz_at_max))
+        })
+        .collect();
+    if items.is_empty() {
+        return Vec::new();
+    }
+    vec![Block::Paragraph(format!(
+        "Where an instability is first unstable and where it grows fastest, its frequency \
+         differs by more than {:.0} % for {}: {}",
+        100.0 * crate::results::DRIFT_SAID,
+        items.len(),
+        items.join(" ")
+    ))]
 }
 
 /// A table of one kind of share per instability, at its largest real part: a column per
@@ -791,7 +815,7 @@ fn sensitivity_table(
             .map_or("-".to_string(), |b| crate::results::stiffest_bodies(b, 1));
         rows.push(vec![
             format!("{:.1} Hz", i.frequency_hz_at_max),
-            format!("{:.2}", i.mu_at_max),
+            crate::results::friction_label(i.mu_at_max),
             format!("{:.1}{side}", s.d_real_part_d_mu),
             format!("{:.2}{side}", s.d_frequency_hz_d_mu),
             body,

@@ -116,7 +116,10 @@ pub fn plan(study: &Study, mesh_hash: &str) -> Vec<Stage> {
         key: sweep_key(&s, mesh_hash),
         point_key: {
             let mut model = s.clone();
+            // A point's numbers depend on its friction path (in its own key), not on the
+            // list asked or on how many points refinement may insert.
             model.analysis.friction = Vec::new();
+            model.analysis.refine_points = 0;
             sweep_key(&model, mesh_hash)
         },
         name,

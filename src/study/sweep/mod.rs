@@ -12,9 +12,11 @@ mod checkpoint;
 mod full;
 mod output;
 pub mod point_cache;
+mod refine;
 mod settings;
 mod spread;
 mod superelement;
+mod swept;
 
 pub use checkpoint::{EquilibriumState, ModelCheckpoint, PathPoint, SuperElementState};
 pub use full::{equilibrium_fields, FullModel};
@@ -29,7 +31,7 @@ use super::report::{collective, write_file};
 use super::staging::{staged, Claim};
 use super::StudyError;
 use crate::analysis::cea::ComplexMode;
-use crate::analysis::tracking::{self, Instability, SweepPoint, TrackingOptions};
+use crate::analysis::tracking::{self, Instability, TrackingOptions};
 use crate::mesh::Mesh;
 use crate::petsc::{Comm, Runtime};
 use crate::reduce::Strategy;
@@ -37,6 +39,7 @@ use crate::results::{ContactMap, ModelInfo, SweepPointReport};
 use num_complex::Complex64;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
+use swept::Swept;
 
 /// An unstable mode with its shape on every mesh node (real and imaginary parts).
 #[derive(Clone, Debug)]
@@ -109,6 +112,8 @@ pub struct SweepPlan {
     pub cache: Option<point_cache::PointCache>,
     /// The files the sweep reads (the study file, the mesh): never its output.
     pub inputs: Vec<PathBuf>,
+    /// Friction values it may insert where tracking is unsure ([`refine`]).
+    pub refine_points: usize,
 }
 
 /// What a finished sweep found (rank 0; empty on other ranks).
@@ -138,6 +143,8 @@ pub struct SweepArgs {
     pub contact_edge_points: Option<usize>,
     /// Contributions of every mode (study key `analysis.contributions_of_every_mode`).
     pub contributions_of_every_mode: bool,
+    /// Friction values the sweep may insert (study key `analysis.refine_points`).
+    pub refine_points: Option<usize>,
 }
 
 /// What `squeal sweep`'s super-element flags change in the study's `[reduction]`.
@@ -256,6 +263,9 @@ pub fn study_from_args(
     if args.contributions_of_every_mode {
         study.analysis.contributions_of_every_mode = true;
     }
+    if let Some(n) = args.refine_points {
+        study.analysis.refine_points = n;
+    }
     if let Some(o) = args.output {
         study.output = o;
     }
@@ -370,6 +380,7 @@ pub fn run(
         output: study.output.clone(),
         cache,
         inputs: study.input_files(Some(Path::new(file))),
+        refine_points: study.analysis.refine_points,
     };
     let settings = SweepSettings::of(study, file);
     if study
@@ -419,54 +430,43 @@ pub fn sweep<'rt>(
 }
 
 /// A point's folder in a sweep's output.
-fn point_folder(mu: f64) -> String {
-    format!("mu_{mu:.3}")
+pub(crate) fn point_folder(mu: f64) -> String {
+    format!("mu_{}", crate::results::friction_text(mu))
 }
 
-/// Reuses the longest run of leading points the cache holds (`keys`, one per point): their
-/// files go into the output, their reports and shapes into `reports` and `points`, and the
-/// model is restored to where the last of them left it. Returns how many were reused.
-/// Collective: rank 0 reads the cache and every rank follows.
+/// Reuses the longest run of leading points the cache holds: their files go into the
+/// output, their reports, shapes and checkpoints into `swept`, and the model is restored to
+/// where the last of them left it. Returns how many were reused. Collective: rank 0 reads
+/// the cache and every rank follows.
 fn resume<'rt>(
     comm: Comm<'rt>,
     model: &mut dyn FrictionModel<'rt>,
     plan: &SweepPlan,
-    keys: &[String],
-    reports: &mut Vec<SweepPointReport>,
-    points: &mut Vec<SweepPoint>,
+    swept: &mut Swept,
 ) -> Result<usize, StudyError> {
     let Some(cache) = &plan.cache else {
         return Ok(0);
     };
-    let mut checkpoint = Vec::new();
+    let total = plan.friction.len();
+    let mut last = None;
     let local = if comm.rank() == 0 {
         (|| -> Result<(), StudyError> {
-            let mut last = None;
-            for (step, key) in keys.iter().enumerate() {
-                let mu = plan.friction[step];
-                let Some(point) = cache.load(key, mu) else {
+            for step in 0..total {
+                let path = &plan.friction[..=step];
+                let Some(mut point) = swept::from_cache(cache, &plan.output, path, 0)? else {
                     break;
                 };
-                cache.publish(key, &plan.output.join(point_folder(mu)))?;
-                let (report, shapes, cp) = point.into_parts();
                 tracing::info!(
-                    "mu {mu:.2} ({}/{}): from the point cache (key {key})",
+                    "mu {:.2} ({}/{total}): from the point cache (key {})",
+                    path[step],
                     step + 1,
-                    keys.len()
+                    cache.key(path)
                 );
-                points.push(SweepPoint {
-                    mu,
-                    eigenvalues: report.eigenvalues.iter().map(|m| m.lambda).collect(),
-                    shapes,
-                });
-                reports.push(report);
-                last = Some(cp);
-            }
-            if let Some(cp) = last {
-                checkpoint = serde_json::to_vec(&cp).map_err(|source| StudyError::JsonFile {
-                    path: cache.dir().to_path_buf(),
-                    source,
-                })?;
+                last = point.checkpoint.clone();
+                if plan.refine_points == 0 {
+                    point.checkpoint = None;
+                }
+                swept.insert(step, point);
             }
             Ok(())
         })()
@@ -474,28 +474,48 @@ fn resume<'rt>(
         Ok(())
     };
     super::report::collective(comm, local)?;
-    let mut count = vec![reports.len() as f64];
+    let mut count = vec![swept.len() as f64];
     comm.broadcast_from_root(&mut count);
     let resumed = count[0] as usize;
     // Every point reused: nothing is solved after them, so the model need not stand there
-    // (restoring a super-element sweep rebuilds its current super-element).
-    if resumed == 0 || resumed == keys.len() {
+    // (restoring a super-element sweep rebuilds its current super-element); refinement
+    // restores what it needs itself.
+    if resumed == 0 || resumed == total {
         return Ok(resumed);
     }
-    comm.broadcast_bytes_from_root(&mut checkpoint);
-    let cp: ModelCheckpoint =
-        serde_json::from_slice(&checkpoint).map_err(|source| StudyError::JsonFile {
-            path: cache.dir().to_path_buf(),
-            source,
-        })?;
-    model.restore(comm, &cp)?;
+    restore_from_root(comm, model, last.as_ref(), cache.dir())?;
     if comm.rank() == 0 {
-        tracing::info!(
-            "resumed after {resumed} finished point(s) of {} from the point cache",
-            keys.len()
-        );
+        tracing::info!("resumed after {resumed} finished point(s) of {total} from the point cache");
     }
     Ok(resumed)
+}
+
+/// Makes the model stand where rank 0's `checkpoint` was taken (the other ranks' is
+/// ignored: it is sent to them). `source` names where it came from in an error. Collective.
+fn restore_from_root<'rt>(
+    comm: Comm<'rt>,
+    model: &mut dyn FrictionModel<'rt>,
+    checkpoint: Option<&ModelCheckpoint>,
+    source: &Path,
+) -> Result<(), StudyError> {
+    let json_error = |e| StudyError::JsonFile {
+        path: source.to_path_buf(),
+        source: e,
+    };
+    let mut bytes = Vec::new();
+    let local = match (comm.rank(), checkpoint) {
+        (0, Some(cp)) => serde_json::to_vec(cp)
+            .map(|b| bytes = b)
+            .map_err(json_error),
+        (0, None) => Err(StudyError::Checkpoint(
+            "no checkpoint was kept for the point to start from".into(),
+        )),
+        _ => Ok(()),
+    };
+    collective(comm, local)?;
+    comm.broadcast_bytes_from_root(&mut bytes);
+    let cp: ModelCheckpoint = serde_json::from_slice(&bytes).map_err(json_error)?;
+    model.restore(comm, &cp)
 }
 
 /// More points than this to compute gets a word before the first one: a list of 1,000
@@ -524,7 +544,8 @@ fn time_left(warm_seconds: &[f64], points_left: usize) -> Option<String> {
     ))
 }
 
-/// The sweep written into `plan.output` (the staging folder of `published`).
+/// The sweep written into `plan.output` (the staging folder of `published`), computed or
+/// resumed from the point cache, refined where asked. Collective; rank 0 writes.
 fn sweep_into<'rt>(
     comm: Comm<'rt>,
     model: &mut dyn FrictionModel<'rt>,
@@ -536,18 +557,13 @@ fn sweep_into<'rt>(
     if root {
         tracing::info!("{}", info.describe());
     }
-    let mut reports = Vec::new();
-    let mut points = Vec::new();
+    let mut swept = Swept::default();
     let total = plan.friction.len();
     let name = published
         .file_name()
         .map_or("sweep".to_string(), |n| n.to_string_lossy().into_owned());
     let bar = super::progress::Progress::new(comm.rank(), &name, total);
-    let keys: Vec<String> = match &plan.cache {
-        Some(c) => (0..total).map(|i| c.key(&plan.friction[..=i])).collect(),
-        None => Vec::new(),
-    };
-    let resumed = resume(comm, model, plan, &keys, &mut reports, &mut points)?;
+    let resumed = resume(comm, model, plan, &mut swept)?;
     for _ in 0..resumed {
         bar.step();
     }
@@ -575,42 +591,27 @@ fn sweep_into<'rt>(
             published.display()
         ));
         let outcome = model.solve_point(comm, mu)?;
-        let report = outcome.report;
         if step > resumed {
-            warm_seconds.push(report.seconds);
+            warm_seconds.push(outcome.report.seconds);
         }
         if root {
-            tracing::info!("mu {mu:.2} ({}/{total}): {}", step + 1, report.log_line());
+            tracing::info!(
+                "mu {mu:.2} ({}/{total}): {}",
+                step + 1,
+                outcome.report.log_line()
+            );
             if let Some(left) = time_left(&warm_seconds, total - step - 1) {
                 tracing::info!("{left}");
             }
-            let dir = plan.output.join(point_folder(mu));
-            output::write_point(&dir, model.mesh(), outcome.fields.as_ref(), &report, &info)?;
-            if let Some(cache) = &plan.cache {
-                let kept = point_cache::CachedPoint::new(
-                    mu,
-                    &report,
-                    &outcome.tracking_shapes,
-                    model.checkpoint(),
-                );
-                // The cache saves time later; failing to fill it costs none now.
-                if let Err(e) = cache.store(&keys[step], &dir, &kept) {
-                    tracing::warn!(
-                        "mu {mu:.3} is not kept in the point cache ({e}); a rerun recomputes it"
-                    );
-                }
-            }
-            points.push(SweepPoint {
-                mu,
-                eigenvalues: report.eigenvalues.iter().map(|m| m.lambda).collect(),
-                shapes: outcome.tracking_shapes,
-            });
+            let path = plan.friction[..=step].to_vec();
+            let point = swept::keep_solved(model, plan, &info, outcome, path, 0)?;
+            swept.insert(step, point);
         }
-        reports.push(report);
         bar.step();
     }
+    refine::refine(comm, model, plan, &info, &mut swept, &bar)?;
     if let (true, Some(cache)) = (root, &plan.cache) {
-        if let Err(e) = cache.prune(&keys) {
+        if let Err(e) = cache.prune(&swept.keys(cache)) {
             tracing::warn!(
                 "the point cache {} is not pruned: {e}",
                 cache.dir().display()
@@ -620,6 +621,14 @@ fn sweep_into<'rt>(
     drop(bar);
     if !root {
         return Ok(SweepSummary::default());
+    }
+    let Swept {
+        mut reports,
+        points,
+        ..
+    } = swept;
+    for k in 1..reports.len() {
+        reports[k].contact_changed = reports[k - 1].contact_state_differs(&reports[k]);
     }
     let tracks = tracking::track(&points, &TrackingOptions::default())?;
     let links = tracking::LinkSummary::of(&points, &tracks, tracking::TRUSTED_REGRET);
@@ -634,7 +643,7 @@ fn sweep_into<'rt>(
         100.0 * tracking::LinkSummary::JUMP,
         100.0 * links.largest_jump
     );
-    let instabilities = tracking::instabilities(
+    let mut instabilities = tracking::instabilities(
         &points,
         &tracks,
         &tracking::InstabilityOptions {
@@ -642,6 +651,7 @@ fn sweep_into<'rt>(
             ..Default::default()
         },
     )?;
+    refine::mark_contact_changes(&mut instabilities, &reports);
     output::write_sweep(
         &plan.output,
         &info,

@@ -270,9 +270,11 @@ pub fn summary_table(reports: &[SweepPointReport], instabilities: &[Instability]
             .iter()
             .filter(|m| m.unstable)
             .max_by(|a, b| a.real_part.total_cmp(&b.real_part));
+        let mu = crate::results::friction_label(r.friction);
         s.push_str(&format!(
-            "  {:>4.2}  {:>6}  {:>8}   {:>19}   {:>7}   {:>7.5}   {:>6}\n",
-            r.friction,
+            "  {:>4}{} {:>6}  {:>8}   {:>19}   {:>7}   {:>7.5}   {:>6}\n",
+            mu,
+            if r.inserted { "+" } else { " " },
             r.eigenvalues.len(),
             r.eigenvalues.iter().filter(|m| m.unstable).count(),
             worst.map_or("-".into(), |m| format!("{:.4e}", m.real_part)),
@@ -280,6 +282,12 @@ pub fn summary_table(reports: &[SweepPointReport], instabilities: &[Instability]
             r.balance_ratio,
             r.static_iterations
         ));
+    }
+    if reports.iter().any(|r| r.inserted) {
+        s.push_str(
+            "  + inserted where the modes of its neighbours could not be linked with \
+             confidence, solved from the point below\n",
+        );
     }
     s.push_str(&format!("\n  {} instabilities\n", instabilities.len()));
     for i in instabilities {
@@ -293,12 +301,12 @@ pub fn summary_table(reports: &[SweepPointReport], instabilities: &[Instability]
             (true, None) => format!("onset at mu {:.3} (interpolated)", i.onset_mu),
         };
         s.push_str(&format!(
-            "    {:.1} Hz: unstable from mu {:.2} at {:.1} Hz, {onset}; max real part {:.4e} 1/s at mu {:.2} ({:.1} Hz) [track {}, partner {}]\n",
+            "    {:.1} Hz: unstable from mu {} at {:.1} Hz, {onset}; max real part {:.4e} 1/s at mu {} ({:.1} Hz) [track {}, partner {}]\n",
             i.frequency_hz_at_max,
-            i.first_unstable_mu,
+            crate::results::friction_label(i.first_unstable_mu),
             i.frequency_hz_at_first_unstable,
             i.max_real_part,
-            i.mu_at_max,
+            crate::results::friction_label(i.mu_at_max),
             i.frequency_hz_at_max,
             i.track,
             i.partner.map_or("-".into(), |p| p.to_string()),
@@ -308,6 +316,9 @@ pub fn summary_table(reports: &[SweepPointReport], instabilities: &[Instability]
                 "        tracked across uncertain links (another assignment of the modes is \
                  nearly as good): {links}\n"
             ));
+        }
+        if let Some(drift) = crate::results::frequency_drift(i) {
+            s.push_str(&format!("        {drift}\n"));
         }
         let at_max = crate::results::mode_at_max(reports, i);
         if let Some(shares) = at_max.and_then(|m| m.body_shares.as_ref()) {

@@ -805,6 +805,9 @@ impl<'rt> FrictionModel<'rt> for SuperElementModel<'rt> {
                     peak_rss_mib_max_rank: peak[0],
                     peak_rss_mib_all_ranks: peak_sum[0],
                     contact_edge: None,
+                    inserted: false,
+                    path: Vec::new(),
+                    contact_changed: false,
                     superelement: Some(SuperElementPoint {
                         strategy: self.settings.strategy.name().into(),
                         index: current.index,
@@ -890,6 +893,9 @@ fn empty_report(mu: f64, seconds: f64, peak: f64, peak_sum: f64) -> SweepPointRe
         peak_rss_mib_all_ranks: peak_sum,
         superelement: None,
         contact_edge: None,
+        inserted: false,
+        path: Vec::new(),
+        contact_changed: false,
     }
 }
 
