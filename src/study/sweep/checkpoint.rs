@@ -11,7 +11,7 @@ use crate::contact::SlipHistory;
 
 /// An equilibrium as the next solve needs it: the friction value, every node's
 /// displacement and the slip history (each Coulomb point's anchor, per pair and point).
-#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct EquilibriumState {
     pub mu: f64,
     pub displacement: Vec<[f64; 3]>,

@@ -531,9 +531,18 @@ impl<'rt> FrictionModel<'rt> for SuperElementModel<'rt> {
         let state = checkpoint.superelement.as_ref().ok_or_else(|| {
             StudyError::Checkpoint("it was taken of a model without super-elements".into())
         })?;
-        self.current = None;
+        // The super-element the checkpoint stood on may be the one in hand (a refinement
+        // going back to an earlier point of the same super-element: always so for the
+        // single strategy): the same build, at the same equilibrium, need not be made again.
+        let in_hand = matches!(
+            (&state.current, &self.current),
+            (Some((index, made)), Some(c)) if c.index == *index && c.made_from == *made
+        );
+        if !in_hand {
+            self.current = None;
+        }
         self.interior_modes = state.interior_modes;
-        if let Some((index, made)) = &state.current {
+        if let Some((index, made)) = state.current.as_ref().filter(|_| !in_hand) {
             self.base.restore_previous(Some(made))?;
             let slip = made.slip_history();
             let at = Configuration {
