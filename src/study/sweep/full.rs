@@ -438,6 +438,12 @@ impl<'rt> FullModel<'rt> {
         &self.operators
     }
 
+    /// The equations a mode is compared on across the sweep, each with the square root of
+    /// the mass it stands for (see the field).
+    pub(super) fn tracked_equations(&self) -> &[(usize, f64)] {
+        &self.tracked_equations
+    }
+
     /// Runs `f` on the operators with the contact tangent at `u` (every pair, the swept ones
     /// at friction `mu`) formed in K, taken out again afterwards (see `solve_point`).
     /// Collective.

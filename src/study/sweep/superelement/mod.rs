@@ -617,6 +617,32 @@ impl<'rt> FrictionModel<'rt> for SuperElementModel<'rt> {
         };
         let rows = current.basis.rows();
         let local_rows = rows.len();
+        // Tracking compares each mode expanded onto the mesh's mass sample, as the full-size
+        // models do: a kinetic-energy MAC over every body, whichever super-element each point
+        // stands on. (The boundary coordinates alone left the interior's motion out and
+        // weighed the reduced nodes' coordinates as if they were masses.) Each rank fills the
+        // sample's equations it holds; the sum is the whole sample on every rank.
+        let tracked = self.base.tracked_equations();
+        let mut sampled = vec![0.0; 2 * m * tracked.len()];
+        for (s, &(e, w)) in tracked.iter().enumerate() {
+            if rows.contains(&e) {
+                for j in 0..m {
+                    let at = 2 * (j * tracked.len() + s);
+                    sampled[at] = w * expanded[(e - rows.start, 1 + 2 * j)];
+                    sampled[at + 1] = w * expanded[(e - rows.start, 2 + 2 * j)];
+                }
+            }
+        }
+        comm.sum_in_place(&mut sampled);
+        let per_mode = 2 * tracked.len();
+        let tracking: Vec<Vec<Complex64>> = (0..m)
+            .map(|j| {
+                sampled[j * per_mode..(j + 1) * per_mode]
+                    .chunks(2)
+                    .map(|z| Complex64::new(z[0], z[1]))
+                    .collect()
+            })
+            .collect();
         let column = |c: usize| -> Vec<f64> { (0..local_rows).map(|i| expanded[(i, c)]).collect() };
         let mut static_vector = Vector::new(comm, local_rows)?;
         static_vector.set_local(&column(0))?;
@@ -848,8 +874,6 @@ impl<'rt> FrictionModel<'rt> for SuperElementModel<'rt> {
                         expansion_residuals: residuals,
                     }),
                 };
-                let tracking: Vec<Vec<Complex64>> =
-                    dense.shapes.iter().map(|s| s[..n_b].to_vec()).collect();
                 let fields = self.base.point_fields(&u_static, &states, unstable);
                 (report, tracking, Some(fields))
             }
