@@ -3,6 +3,7 @@
 
 use super::statics::read_contact;
 use super::{CompareError, Comparison, InstabilityComparison};
+use crate::results::friction_label;
 use crate::results::{read_document, DocumentError};
 use crate::study::report::{create_dir_all, write_atomically};
 use std::path::{Path, PathBuf};
@@ -59,7 +60,7 @@ impl Comparison {
             let verdict = if at.is_empty() {
                 "unstable with the edge moved either way".to_string()
             } else {
-                let mus: Vec<String> = at.iter().map(|mu| format!("{mu:.2}")).collect();
+                let mus: Vec<String> = at.iter().map(|&mu| friction_label(mu)).collect();
                 format!("**stable with the edge moved** at mu {}", mus.join(", "))
             };
             rows.push(format!(
@@ -79,8 +80,8 @@ impl Comparison {
             ));
             for m in &self.reference_edge {
                 s.push_str(&format!(
-                    "| {:.2} | {:.1} Hz | {} | {} |\n",
-                    m.friction,
+                    "| {} | {:.1} Hz | {} | {} |\n",
+                    friction_label(m.friction),
                     m.frequency_hz,
                     m.points,
                     m.shift_text()
@@ -122,9 +123,9 @@ impl Comparison {
             .flat_map(|u| {
                 u.unmatched.iter().map(move |m| {
                     format!(
-                        "| `{}` | {:.2} | {:.1} Hz | {:.3e} 1/s | {} | {} | {} |\n",
+                        "| `{}` | {} | {:.1} Hz | {:.3e} 1/s | {} | {} | {} |\n",
                         u.model,
-                        u.friction,
+                        friction_label(u.friction),
                         m.frequency_hz,
                         m.real_part,
                         m.nearest_unstable
@@ -205,7 +206,7 @@ impl Comparison {
             let differ: Vec<String> = i
                 .track_disagreements
                 .iter()
-                .map(|mu| format!("{mu:.2}"))
+                .map(|&mu| friction_label(mu))
                 .collect();
             s.push_str(&format!(
                 "| {:.1} Hz (onset mu {:.2}) | `{}` | {} | {} | {} | {} | {} | {} | {} | {} |\n",
@@ -247,9 +248,9 @@ impl Comparison {
                     .map(|(p, v)| format!("{p}: {:.1} %", 100.0 * v))
                     .collect();
                 s.push_str(&format!(
-                    "| `{}` | {:.2} | {:.1} % | {} | {} |\n",
+                    "| `{}` | {} | {:.1} % | {} | {} |\n",
                     c.model,
-                    c.friction,
+                    friction_label(c.friction),
                     100.0 * c.state_agreement,
                     l2.join(", "),
                     nodal.join(", ")
@@ -269,9 +270,9 @@ impl Comparison {
             for z in &self.zones {
                 let r = &z.ratios;
                 s.push_str(&format!(
-                    "| `{}` | {:.2} | {} | {:.3} | {:.2} mm | {} |\n",
+                    "| `{}` | {} | {} | {:.3} | {:.2} mm | {} |\n",
                     z.model,
-                    z.friction,
+                    friction_label(z.friction),
                     z.pair,
                     r.total,
                     1e3 * r.centroid_offset,
@@ -292,9 +293,9 @@ impl Comparison {
                 let m = &c.spectrum;
                 let worst = m.worst.map_or("-".to_string(), |w| w.shift_text());
                 s.push_str(&format!(
-                    "| `{}` | {:.2} | {} / {} | {:.2} % | {} |\n",
+                    "| `{}` | {} | {} / {} | {:.2} % | {} |\n",
                     c.model,
-                    c.friction,
+                    friction_label(c.friction),
                     m.reference_modes,
                     m.other_modes,
                     100.0 * m.mean_relative,
@@ -339,7 +340,8 @@ impl Comparison {
             let mut pairs: Vec<String> = r.points.iter().map(|p| p.pair.clone()).collect();
             pairs.dedup();
             let title = format!(
-                "Contact state at mu = {mu:.2}: reference and model {k} ({})",
+                "Contact state at mu = {}: reference and model {k} ({})",
+                friction_label(mu),
                 model.source
             );
             let mut panels = Vec::new();
@@ -366,7 +368,10 @@ impl Comparison {
                     model: map(&model_points),
                 });
             }
-            let file = dir.join(format!("contact_state_model{k}_mu{mu:.2}.svg"));
+            let file = dir.join(format!(
+                "contact_state_model{k}_mu{}.svg",
+                friction_label(mu)
+            ));
             crate::study::plot::contact_map(&panels, &title)
                 .map_err(std::io::Error::from)
                 .and_then(|svg| crate::study::plot::write_svg(&file, &svg))
