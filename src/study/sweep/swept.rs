@@ -1,5 +1,5 @@
 //! The points a sweep has finished, in friction order, as rank 0 keeps them, and how a
-//! solved point joins them: its log line, its folder, the point cache.
+//! solved or cached point joins them: its folder, the point cache.
 
 use super::output;
 use super::point_cache::{CachedPoint, PointCache};
