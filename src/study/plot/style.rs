@@ -340,7 +340,8 @@ pub struct Entry {
     pub look: Option<Look>,
 }
 
-const LEGEND_ROW: i32 = 22;
+/// A legend row's height in pixels.
+pub const LEGEND_ROW: i32 = 22;
 
 /// The entries top down from the area's top left; those that do not fit are counted in a
 /// last row ("… and 12 more"), names too long for the width are shortened.

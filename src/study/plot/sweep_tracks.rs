@@ -14,6 +14,11 @@ use super::{PlotError, Track};
 
 const WIDTH: u32 = 1020;
 const HEIGHT: u32 = 680;
+/// The figure grows past [`HEIGHT`] until its legend names every instability, up to this
+/// (about 60 entries); beyond, the legend says how many it leaves out.
+const MAX_HEIGHT: u32 = 1440;
+/// The figure's height less its legend's rows: the title and the legend's margins.
+const LEGEND_HEADROOM: u32 = 100;
 /// The legend, right of the panels: wide enough for "6719 Hz, unstable from mu 0.10".
 const SIDE: u32 = 320;
 
@@ -165,7 +170,12 @@ pub(super) fn draw(lines: &[Line], last: Vec<Entry>, title: &str) -> Result<Stri
             .collect()
     };
     let (top_points, bottom_points) = (drawable(&top), drawable(&bottom));
-    style::render(WIDTH, HEIGHT, title, |body| {
+    // A refined sweep of a floating-caliper brake has 30 instabilities: the figure grows
+    // rather than leave some out of the legend.
+    let named = lines.iter().filter(|l| l.legend).count() + last.len();
+    let height =
+        (LEGEND_HEADROOM + style::LEGEND_ROW as u32 * named as u32).clamp(HEIGHT, MAX_HEIGHT);
+    style::render(WIDTH, height, title, |body| {
         if top_points.is_empty() && bottom_points.is_empty() {
             return style::no_data(body, "no data: no tracked mode");
         }
@@ -320,8 +330,42 @@ mod tests {
     }
 
     #[test]
+    fn a_legend_of_thirty_instabilities_names_every_one() {
+        let tracks: Vec<Track> = (0..70)
+            .map(|k| {
+                (
+                    format!("mode {k}"),
+                    vec![(0.1, 1000.0 + k as f64, 0.0), (0.9, 1100.0, 0.0)],
+                    true,
+                )
+            })
+            .collect();
+        // 30 instabilities, each with a partner, and 10 stable tracks: 32 legend entries.
+        let instabilities: Vec<InstabilityLines> = (0..30)
+            .map(|k| InstabilityLines {
+                name: format!("{} Hz, unstable from mu 0.{k:02}", 1000 + k),
+                track: 2 * k,
+                partner: Some(2 * k + 1),
+            })
+            .collect();
+        let svg = sweep_tracks(&tracks, &instabilities, "thirty").unwrap();
+        check_xml(&svg).unwrap();
+        let text = texts(&svg);
+        for i in &instabilities {
+            assert!(
+                text.iter().any(|t| t == &i.name),
+                "{} is not in the legend",
+                i.name
+            );
+        }
+        assert!(text.contains(&"open markers: its partner"));
+        assert!(text.contains(&"stable modes (frequency only)"));
+        assert!(!svg.contains("more"), "the legend leaves some out");
+    }
+
+    #[test]
     fn overfull_legends_say_how_many_are_left_out() {
-        let tracks: Vec<Track> = (0..60)
+        let tracks: Vec<Track> = (0..100)
             .map(|k| {
                 (
                     format!("mode {k}"),
@@ -330,7 +374,7 @@ mod tests {
                 )
             })
             .collect();
-        let instabilities: Vec<InstabilityLines> = (0..60)
+        let instabilities: Vec<InstabilityLines> = (0..100)
             .map(|k| InstabilityLines {
                 name: format!("mode {k}"),
                 track: k,
@@ -343,8 +387,8 @@ mod tests {
             .iter()
             .filter(|t| t.starts_with("mode "))
             .count();
-        assert!(shown > 5 && shown < 60, "{shown}");
-        assert!(svg.contains(&format!("… and {} more", 60 - shown)));
+        assert!(shown > 50 && shown < 100, "{shown}");
+        assert!(svg.contains(&format!("… and {} more", 100 - shown)));
     }
 
     #[test]
