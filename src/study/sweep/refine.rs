@@ -4,8 +4,9 @@
 //! After the asked values, each pair of neighbouring points is judged by its links
 //! ([`tracking::link`]): a link of regret below [`tracking::TRUSTED_REGRET`] (another
 //! assignment explains the two spectra almost as well) or one that moves its mode's frequency
-//! by more than [`LinkSummary::JUMP`] makes the interval doubtful. The most doubtful interval
-//! is halved: the value between is solved from the lower point's equilibrium and Coulomb
+//! by more than [`LinkSummary::JUMP`] makes the interval doubtful. Doubtful intervals are
+//! halved level by level (every asked one before any half, the most doubtful first within a
+//! level): the value between is solved from the lower point's equilibrium and Coulomb
 //! history (the model restored from that point's checkpoint), exactly as a sweep that went
 //! there next would have, and the two halves are judged again. It stops when no interval is
 //! doubtful, when the budget of points is spent, or when the doubtful ones are down to an
