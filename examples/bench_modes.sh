@@ -6,6 +6,11 @@
 #
 #     bash examples/bench_modes.sh                 # 3 repetitions in ./bench-modes
 #     REPS=5 OUT=/tmp/b bash examples/bench_modes.sh
+#     COUNT=20 bash examples/bench_modes.sh        # the 20 lowest modes (*FREQUENCY, 20)
+#
+# With COUNT, the deck asks `*FREQUENCY` for that many modes and no upper frequency, and
+# squeal is given no --fmax: both programs find the N lowest modes, squeal by the path a
+# deck's count takes (src/analysis/modes.rs, `lowest_of_a_held_model`).
 #
 # Writes the deck with examples/make_disc_deck.py (--nt 96 --nr 8 --nz 3: 22,848 nodes,
 # 13,824 C3D10, 64,512 free DOFs, 16 modes below 10 kHz; not committed, ~2 MB), then times,
@@ -25,6 +30,14 @@ export OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1
 command -v ccx >/dev/null || { echo "ccx not found: apt-get install -y calculix-ccx" >&2; exit 1; }
 mkdir -p "$OUT" && cd "$OUT"
 [ -f disc65.inp ] || python3 "$ROOT/examples/make_disc_deck.py" --nt 96 --nr 8 --nz 3 -o disc65.inp
+DECK=disc65
+BAND=(--fmax 10000)
+if [ -n "${COUNT:-}" ]; then
+    DECK=disc65_n$COUNT
+    sed "s/^60, , 10000$/$COUNT/" disc65.inp >"$DECK.inp"
+    grep -qx "$COUNT" "$DECK.inp" || { echo "no *FREQUENCY data line to replace" >&2; exit 1; }
+    BAND=()
+fi
 
 seconds() { # command... -> wall seconds on stdout, the command's output in last.log
     local t0 t1
@@ -38,11 +51,11 @@ median() { sort -g | awk '{v[NR]=$1} END {print (NR%2) ? v[(NR+1)/2] : (v[NR/2]+
 : >times.txt
 for i in $(seq "$REPS"); do
     for n in 1 2; do
-        t=$(seconds mpirun --oversubscribe -n $n "$SQUEAL" modes disc65.inp --mass-rule gauss4 \
-            --fmax 10000 -o "out-$n")
+        t=$(seconds mpirun --oversubscribe -n $n "$SQUEAL" modes "$DECK.inp" --mass-rule gauss4 \
+            "${BAND[@]}" -o "out-$n")
         echo "squeal$n $t $(cut -d' ' -f1 /proc/loadavg)" | tee -a times.txt
     done
-    t=$(seconds ccx -i disc65)
+    t=$(seconds ccx -i "$DECK")
     echo "ccx $t $(cut -d' ' -f1 /proc/loadavg)" | tee -a times.txt
 done
 c=$(awk '$1=="ccx" {print $2}' times.txt | median)
@@ -52,10 +65,11 @@ for n in 1 2; do
         "$n" "$s" "$(echo "$s / $c" | bc -l)" "$c"
 done
 # Same modes: squeal's frequencies against the ones ccx printed.
-python3 - <<'EOF'
-import csv, re
+DECK=$DECK python3 - <<'EOF'
+import csv, os, re
+dat = open(os.environ["DECK"] + ".dat").read()
 ccx = [float(m.group(1)) for m in
-       re.finditer(r"^\s+\d+\s+\S+\s+\S+\s+(\S+)\s+\S+\s*$", open("disc65.dat").read(), re.M)]
+       re.finditer(r"^\s+\d+\s+\S+\s+\S+\s+(\S+)\s+\S+\s*$", dat, re.M)]
 for n in (1, 2):
     sq = [float(r["frequency_hz"]) for r in csv.DictReader(open(f"out-{n}/modes.csv"))]
     worst = max(abs(a - b) / b for a, b in zip(sq, ccx))

@@ -4,7 +4,9 @@
 //! eigenvalues below sigma (Sylvester), so every mode in the band is found once and none
 //! twice. Usually one count at the band's top and one Krylov-Schur run about its bottom
 //! settle it; when that run does not return exactly the counted number, SLEPc's spectrum
-//! slicing does the band. Works on any (K, M).
+//! slicing does the band. The N lowest modes of a model with no free body (a deck's
+//! `*FREQUENCY, N`) come from one run for N pairs and one count just above the N-th. Works on
+//! any (K, M).
 
 use super::rigid;
 use crate::petsc::{
@@ -83,6 +85,10 @@ pub enum BandMethod {
     /// SLEPc's spectrum slicing: the single shift did not return the counted number of
     /// modes in the band, or the linear solver gives no inertia (not MUMPS).
     Slicing,
+    /// The N lowest modes of a model with no free body: one shift-and-invert run below the
+    /// spectrum, then one inertia count just above the N-th mode found, which says that no
+    /// mode below it was missed ([`lowest_of_a_held_model`]).
+    CountedLowest,
 }
 
 #[derive(Debug, thiserror::Error)]
@@ -108,6 +114,16 @@ pub fn real_modes<'rt>(
     // not accurate enough on a free-free model: the rigid-body modes, ~1e8 times closer to
     // a shift near zero than the elastic ones, swamp their convergence; seen as 1e-5
     // relative errors that differed between rank counts.)
+    // A model with no free body (the restraint check says so) has no rigid-body cluster to
+    // swamp a shift near zero: its N lowest modes come from one run, proved complete by one
+    // count, instead of the estimate and the band below.
+    if let ModeBand::Lowest { count } = options.band {
+        if count > 0 && options.expected_rigid_modes == Some(0) && mumps(options) {
+            if let Some(band) = lowest_of_a_held_model(comm, k, m, count, options)? {
+                return finish(comm, k, m, band, Some(count), options);
+            }
+        }
+    }
     let (high, requested) = match options.band {
         ModeBand::Below { max_frequency_hz } if max_frequency_hz > 0.0 => {
             ((2.0 * PI * max_frequency_hz).powi(2), None)
@@ -148,6 +164,18 @@ pub fn real_modes<'rt>(
         Some(band) => band,
         None => slicing(comm, k, m, low, high, options)?,
     };
+    finish(comm, k, m, band, requested, options)
+}
+
+/// The modes of a band, sorted, cut to the `requested` lowest, rigid-body modes flagged.
+fn finish<'rt>(
+    comm: Comm<'rt>,
+    k: &Matrix<'rt>,
+    m: &Matrix<'rt>,
+    band: Band<'rt>,
+    requested: Option<usize>,
+    options: &ModesOptions,
+) -> Result<RealModes<'rt>, ModesError> {
     if let Some(requested) = requested {
         if band.found.len() < requested {
             return Err(ModesError::NotConverged {
@@ -225,14 +253,7 @@ fn single_shift<'rt>(
     high: f64,
     options: &ModesOptions,
 ) -> Result<Option<Band<'rt>>, ModesError> {
-    // Only MUMPS gives the inertia of a parallel factorisation.
-    if !matches!(
-        options.linear,
-        LinearMethod::Direct {
-            package: DirectPackage::Mumps,
-            ..
-        }
-    ) {
+    if !mumps(options) {
         return Ok(None);
     }
     let count = eigenvalues_below(comm, k, m, high)?;
@@ -302,6 +323,129 @@ fn single_shift<'rt>(
 /// Single-shift runs before the band is sliced instead: the first, then searches for copies
 /// of multiple eigenvalues that it missed (see [`single_shift`]).
 const MAX_ROUNDS: usize = 4;
+
+/// Whether the linear solver is MUMPS, the only one that gives the inertia of a parallel
+/// factorisation.
+fn mumps(options: &ModesOptions) -> bool {
+    matches!(
+        options.linear,
+        LinearMethod::Direct {
+            package: DirectPackage::Mumps,
+            ..
+        }
+    )
+}
+
+/// The `count` lowest modes of a model with no free body, by one shift-and-invert run just
+/// below zero for that many pairs, then one inertia count at a shift h above the `count`-th
+/// eigenvalue found (halfway to the next one found, when there is one): when LDL^T(K - h M)
+/// counts exactly as many eigenvalues below h as the run found there, none below h was
+/// missed, so the `count` lowest found are the `count` lowest (the pairs are M-orthogonal,
+/// none is counted twice). Two factorisations and one Krylov-Schur run, where the general
+/// path takes three and two (a loose run to place the band's top, then the band); that one
+/// stays for free bodies, whose rigid-body modes, ~1e8 times nearer a shift at zero than the
+/// elastic ones, swamp the elastic ones' accuracy (see [`real_modes`]). `None` when the run
+/// falls short or the count disagrees (a multiple eigenvalue whose copies the run did not
+/// all see, or one that the `count`-th splits): the caller then takes the general path.
+fn lowest_of_a_held_model<'rt>(
+    comm: Comm<'rt>,
+    k: &Matrix<'rt>,
+    m: &Matrix<'rt>,
+    count: usize,
+    options: &ModesOptions,
+) -> Result<Option<Band<'rt>>, ModesError> {
+    let eps_options = EigenOptions {
+        problem: EigenProblem::HermitianGeneralized,
+        // A shift of -(1 Hz)^2: K - sigma M is definite, and far below the first mode.
+        spectrum: Spectrum::NearTarget {
+            target: -(2.0 * PI).powi(2),
+            count,
+        },
+        tolerance: options.tolerance,
+        linear: LinearMethod::Direct {
+            package: DirectPackage::Mumps,
+            factorization: Factorization::Cholesky,
+        },
+        ..Default::default()
+    };
+    let mut eps = EigenSolver::new(comm, k, Some(m), &eps_options)?;
+    let summary = eps.solve()?;
+    let (mut converged, mut iterations) = (summary.converged, summary.iterations);
+    let all: Vec<usize> = (0..summary.converged).collect();
+    let mut found = pairs(&eps, k, m, &all)?;
+    found.sort_by(|a, b| a.0.total_cmp(&b.0));
+    // SLEPc's eigenvalues are replicated, so every branch below is the same on every rank.
+    if found.len() < count || found[0].0 <= 0.0 {
+        tracing::debug!(
+            "lowest modes: {} of {count} converged, lowest {:e}; taking the general path",
+            found.len(),
+            found.first().map_or(f64::NAN, |f| f.0)
+        );
+        return Ok(None);
+    }
+    let splits = |found: &[(f64, f64, Vector<'rt>)]| {
+        let nth = found[count - 1].0;
+        found
+            .get(count)
+            .is_some_and(|next| next.0 - nth <= CLUSTER * nth)
+    };
+    let nth = found[count - 1].0;
+    let h = match found.get(count) {
+        Some(next) => 0.5 * (nth + next.0),
+        // Above the count-th by far more than its error (the run's tolerance), by far less
+        // than a gap a mode could hide in unseen: a mode missed below h fails the count.
+        None => nth * (1.0 + 1e-6),
+    };
+    let counted = eigenvalues_below(comm, k, m, h)?;
+    for round in 1..=MAX_ROUNDS {
+        let found_below = found.iter().filter(|f| f.0 < h).count();
+        if counted == found_below {
+            // Every eigenvalue below h is found, and at least `count` lie there. A count-th
+            // inside a cluster of equal eigenvalues (copies found since the first run may
+            // have joined it) is left to the general path, which returns the cluster whole
+            // and then cuts: which copies lie below a shift between them is round-off.
+            if splits(&found) {
+                tracing::debug!("lowest modes: the {count}-th splits a multiple eigenvalue");
+                return Ok(None);
+            }
+            tracing::debug!(
+                "lowest modes: the {count} lowest in {round} Krylov-Schur run(s), \
+                 {iterations} iterations, {counted} eigenvalues below {h:e}"
+            );
+            return Ok(Some(Band {
+                found,
+                converged,
+                iterations,
+                method: BandMethod::CountedLowest,
+            }));
+        }
+        // Copies of a multiple eigenvalue that a single-vector Krylov method saw only
+        // through round-off (see [`single_shift`]): the same factorisation searches the
+        // complement of the pairs found for as many as the count says are missing.
+        if counted < found_below || round == MAX_ROUNDS {
+            break;
+        }
+        let shapes: Vec<&Vector<'rt>> = found.iter().map(|f| &f.2).collect();
+        eps.search_beyond(&shapes, counted - found_below)?;
+        let summary = eps.solve()?;
+        converged += summary.converged;
+        iterations += summary.iterations;
+        let all: Vec<usize> = (0..summary.converged).collect();
+        found.extend(pairs(&eps, k, m, &all)?);
+        found.sort_by(|a, b| a.0.total_cmp(&b.0));
+    }
+    tracing::info!(
+        "lowest modes: {counted} eigenvalues below {h:e}, the run found {}; searching the \
+         band instead",
+        found.iter().filter(|f| f.0 < h).count()
+    );
+    Ok(None)
+}
+
+/// Two eigenvalues this close (relative) are copies of one multiple eigenvalue for
+/// [`lowest_of_a_held_model`]: far above the run's tolerance (1e-10 by default), far below
+/// any two distinct modes of a structure.
+const CLUSTER: f64 = 1e-8;
 
 /// Every pair in [low, high] by SLEPc's spectrum slicing (inertia at each shift).
 fn slicing<'rt>(

@@ -273,19 +273,19 @@ fn contact_change_text(a: &SweepPointReport, b: &SweepPointReport) -> &'static s
 }
 
 /// Says on each uncertain link of an instability whether the contact state changes across
-/// it (by the two points' counts of open, sticking and slipping points).
+/// it: a link joins neighbouring points, so that is the later point's own `contact_changed`
+/// (its open, sticking and slipping counts against the point before), set before this runs.
 pub(super) fn mark_contact_changes(
     instabilities: &mut [tracking::Instability],
     reports: &[SweepPointReport],
 ) {
-    let at = |mu: f64| reports.iter().find(|r| r.friction == mu);
     for link in instabilities
         .iter_mut()
         .flat_map(|i| i.uncertain_links.iter_mut())
     {
-        if let (Some(a), Some(b)) = (at(link.from_mu), at(link.to_mu)) {
-            link.contact_changed = a.contact_state_differs(b);
-        }
+        link.contact_changed = reports
+            .iter()
+            .any(|r| r.friction == link.to_mu && r.contact_changed);
     }
 }
 
