@@ -265,19 +265,7 @@ fn single_shift<'rt>(
             method: BandMethod::SingleShift,
         }));
     }
-    // The operator is symmetric: LDL^T halves LU's factor, and with it the cost of each
-    // triangular solve, which is most of the run.
-    let eps_options = EigenOptions {
-        problem: EigenProblem::HermitianGeneralized,
-        spectrum: Spectrum::NearTarget { target: low, count },
-        tolerance: options.tolerance,
-        linear: LinearMethod::Direct {
-            package: DirectPackage::Mumps,
-            factorization: Factorization::Cholesky,
-        },
-        ..Default::default()
-    };
-    let mut eps = EigenSolver::new(comm, k, Some(m), &eps_options)?;
+    let mut eps = near(comm, k, m, low, count, options)?;
     let mut found: Vec<(f64, f64, Vector<'rt>)> = Vec::with_capacity(count);
     let (mut converged, mut iterations) = (0, 0);
     for round in 1..=MAX_ROUNDS {
@@ -320,6 +308,30 @@ fn single_shift<'rt>(
     Ok(None)
 }
 
+/// Shift-and-invert Krylov-Schur for the `count` pairs nearest `target`, at the options'
+/// tolerance. The operator is symmetric: MUMPS's LDL^T halves LU's factor, and with it the
+/// cost of each triangular solve, which is most of the run. Collective.
+fn near<'rt>(
+    comm: Comm<'rt>,
+    k: &Matrix<'rt>,
+    m: &Matrix<'rt>,
+    target: f64,
+    count: usize,
+    options: &ModesOptions,
+) -> Result<EigenSolver<'rt>, ModesError> {
+    let eps_options = EigenOptions {
+        problem: EigenProblem::HermitianGeneralized,
+        spectrum: Spectrum::NearTarget { target, count },
+        tolerance: options.tolerance,
+        linear: LinearMethod::Direct {
+            package: DirectPackage::Mumps,
+            factorization: Factorization::Cholesky,
+        },
+        ..Default::default()
+    };
+    Ok(EigenSolver::new(comm, k, Some(m), &eps_options)?)
+}
+
 /// Single-shift runs before the band is sliced instead: the first, then searches for copies
 /// of multiple eigenvalues that it missed (see [`single_shift`]).
 const MAX_ROUNDS: usize = 4;
@@ -354,21 +366,8 @@ fn lowest_of_a_held_model<'rt>(
     count: usize,
     options: &ModesOptions,
 ) -> Result<Option<Band<'rt>>, ModesError> {
-    let eps_options = EigenOptions {
-        problem: EigenProblem::HermitianGeneralized,
-        // A shift of -(1 Hz)^2: K - sigma M is definite, and far below the first mode.
-        spectrum: Spectrum::NearTarget {
-            target: -(2.0 * PI).powi(2),
-            count,
-        },
-        tolerance: options.tolerance,
-        linear: LinearMethod::Direct {
-            package: DirectPackage::Mumps,
-            factorization: Factorization::Cholesky,
-        },
-        ..Default::default()
-    };
-    let mut eps = EigenSolver::new(comm, k, Some(m), &eps_options)?;
+    // A shift of -(1 Hz)^2: K - sigma M is definite, and far below the first mode.
+    let mut eps = near(comm, k, m, -(2.0 * PI).powi(2), count, options)?;
     let summary = eps.solve()?;
     let (mut converged, mut iterations) = (summary.converged, summary.iterations);
     let all: Vec<usize> = (0..summary.converged).collect();
