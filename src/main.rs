@@ -495,6 +495,9 @@ fn sliding_flags(
 }
 
 fn main() -> ExitCode {
+    // Before anything else starts (MPI, PETSc, the log): a kernel pinned takes a new image
+    // of this program, and returns here only if that could not be done.
+    let unpinned = study::blas_kernel::pin();
     let cli = Cli::parse();
     // Pure computation: no runtime to start (and none needed to print).
     if let Command::Radius { json } = cli.command {
@@ -536,6 +539,9 @@ fn main() -> ExitCode {
         .init();
     if !matches!(cli.command, Command::Info { .. }) {
         if let Some(w) = study::blas::warning() {
+            tracing::warn!("{w}");
+        }
+        if let Some(w) = &unpinned {
             tracing::warn!("{w}");
         }
     }

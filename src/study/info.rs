@@ -25,6 +25,9 @@ pub struct Info {
     pub packages: Vec<(String, bool)>,
     /// The BLAS under MUMPS's dense kernels (rank 0's process).
     pub blas: Option<super::blas::Blas>,
+    /// `OPENBLAS_CORETYPE` (squeal's own pin or the user's, [`super::blas_kernel`]); `None`:
+    /// the kernel OpenBLAS picked from the CPU.
+    pub blas_kernel: Option<String>,
     pub rank_views: Vec<RankView>,
 }
 
@@ -92,6 +95,7 @@ pub fn gather(rt: &Runtime) -> Result<Option<Info>, super::StudyError> {
         scalar: "real double".into(),
         packages,
         blas: super::blas::loaded(),
+        blas_kernel: std::env::var("OPENBLAS_CORETYPE").ok(),
         rank_views,
     }))
 }
@@ -130,7 +134,10 @@ impl std::fmt::Display for Info {
                 "  BLAS         {} ({}): slow, install libopenblas0-serial",
                 b.kind, b.library
             )?,
-            Some(b) => writeln!(f, "  BLAS         {} ({})", b.kind, b.library)?,
+            Some(b) => match &self.blas_kernel {
+                Some(k) => writeln!(f, "  BLAS         {} ({}), kernel {k}", b.kind, b.library)?,
+                None => writeln!(f, "  BLAS         {} ({})", b.kind, b.library)?,
+            },
             None => writeln!(f, "  BLAS         not found in the process map")?,
         }
         writeln!(f, "  MPI ranks    {}", self.ranks)?;

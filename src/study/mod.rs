@@ -4,6 +4,7 @@
 pub mod assemble;
 pub mod bench;
 pub mod blas;
+pub mod blas_kernel;
 pub mod cea;
 pub mod compare;
 pub mod config;
