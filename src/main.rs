@@ -381,6 +381,11 @@ struct InterfaceFlags {
     /// --k-linear/--k-cubic asking for the paper's cubic law).
     #[arg(long)]
     tilt: Option<bool>,
+    /// Whether each share gets its warping springs: the full model's penalty against the pad
+    /// face's warping inside the share, which a patch law does not see (study key
+    /// reduction.warp_springs; on patch laws over share couplings; off by default).
+    #[arg(long)]
+    warp_springs: bool,
     /// Reduce these pairs too, besides the swept ones (study key reduction.reduce_pairs):
     /// all, swept (the default: the paper's disc/pad interface alone) or pair names
     /// separated by commas. A kept pair takes the swept pads' grid side and point contacts,
@@ -404,6 +409,7 @@ fn reduction_flags(
         disc_coupling,
         area_weighting,
         tilt,
+        warp_springs,
         reduce_pairs,
     } = flags.clone();
     use squeal::reduce::RadiusChoice;
@@ -412,6 +418,7 @@ fn reduction_flags(
             || disc_coupling.is_some()
             || area_weighting
             || tilt.is_some()
+            || warp_springs
             || reduce_pairs.is_some()
         {
             return Err(study::StudyError::BadFlag {
@@ -423,6 +430,8 @@ fn reduction_flags(
                     "--disc-coupling"
                 } else if area_weighting {
                     "--area-weighting"
+                } else if warp_springs {
+                    "--warp-springs"
                 } else {
                     "--tilt"
                 },
@@ -456,6 +465,7 @@ fn reduction_flags(
     spec.disc_coupling = disc_coupling.unwrap_or_default();
     spec.area_weighting = area_weighting;
     spec.tilt = tilt;
+    spec.warp_springs = warp_springs;
     spec.reduce_pairs = reduce_pairs.unwrap_or_default();
     Ok(Some(spec))
 }

@@ -35,6 +35,9 @@ pub enum ReduceError {
     #[error("pair '{pair}': patch laws (reduction.tilt) integrate squeal's unilateral penalty with steady sliding, and this pair has {law}")]
     PatchLaw { pair: String, law: String },
     /// A reduced contact node's tilt law cannot be made (its patch gives no slope).
+    #[error("warping springs (reduction.warp_springs) stand on patch laws over share couplings: ask for those too (reduction.tilt = true, reduction.pad_coupling = \"share\"), or leave reduction.warp_springs out")]
+    WarpSprings,
+
     #[error("pair '{pair}', reduced contact node {reduced_node}: no tilt law: {why}")]
     Tilt {
         pair: String,

@@ -158,6 +158,12 @@ pub struct InterfaceSettings {
     /// pair's law admits one (unilateral penalty with steady sliding), point contacts
     /// otherwise (see [`InterfaceSettings::resolved`]).
     pub tilt: Option<bool>,
+    /// Each share's warping springs ([`super::warp`]): the full model's penalty against the
+    /// pad face's warping inside the share, which a patch law does not see. Opt-in: they
+    /// stand on patch laws over share couplings, and what they are worth depends on the
+    /// mesh (issue 29's note: better on tiny-caliper at 22 and small-caliper at 52 nodes per
+    /// pad, worse at 106).
+    pub warp_springs: bool,
     /// Which pairs are reduced besides the swept ones ([`super::pairs`]).
     pub reduce_pairs: ReducePairs,
     /// A reduced kept pair's own grid, by pair name (default: the swept pads' grid side).
@@ -176,6 +182,7 @@ impl Default for InterfaceSettings {
             disc_coupling: DiscCoupling::Auto,
             area_weighting: false,
             tilt: None,
+            warp_springs: false,
             reduce_pairs: ReducePairs::Swept,
             pair_grids: BTreeMap::new(),
         }
@@ -212,6 +219,9 @@ pub struct ReducedPad {
     /// How many of its share couplings read their nearest neighbour's tilt nodes (their
     /// own face nodes lie on one line, [`tilt::slope_owners`]).
     pub borrowed_slopes: usize,
+    /// How many warping springs hold its pad face within the shares ([`super::warp`]): one
+    /// per face node, none without them.
+    pub warp_springs: usize,
 }
 
 /// A reduced-interface model and what was reduced.
@@ -252,8 +262,12 @@ impl ReducedInterface {
                     PadCoupling::Share => "pad couplings over the shares; disc-side radius",
                     _ => "radius of influence",
                 };
+                let warp = match p.warp_springs {
+                    0 => String::new(),
+                    n => format!("; {n} warping springs on the pad face"),
+                };
                 format!(
-                    "{}{kept}: {}; {radius} {:.4e} ({:.3} h), tie springs up to {:.3e} N/m{patch}",
+                    "{}{kept}: {}; {radius} {:.4e} ({:.3} h), tie springs up to {:.3e} N/m{patch}{warp}",
                     p.pair,
                     p.grid.summary(),
                     p.radius,
@@ -486,6 +500,10 @@ impl InterfaceSettings {
         if s.tilt.is_none() {
             s.tilt = Some(laws_fit && s.pad_coupling == PadCoupling::Share);
         }
+        let shares_with_laws = s.tilt == Some(true) && s.pad_coupling == PadCoupling::Share;
+        if s.warp_springs && !shares_with_laws {
+            return Err(ReduceError::WarpSprings);
+        }
         if s.disc_coupling == DiscCoupling::Auto {
             s.disc_coupling = match s.pad_coupling {
                 PadCoupling::Share => DiscCoupling::Share,
@@ -642,6 +660,7 @@ pub fn reduce_interface(
             tilt_nodes: Vec::new(),
             swept: model.swept[i],
             borrowed_slopes: 0,
+            warp_springs: 0,
         };
         // Whose tilt nodes each reduced contact's patch law reads: its own, or with share
         // couplings, where a share's nodes lie on one line, its nearest neighbour's.
@@ -788,6 +807,17 @@ pub fn reduce_interface(
             })?;
             pad.tilt_nodes[k] = shared.nodes;
             points[k].tilt = Some(shared);
+        }
+        if settings.warp_springs && settings.patch_laws() {
+            let springs = super::warp::pad_springs(
+                &points,
+                &couplings,
+                &pad.contact_nodes,
+                &mesh.nodes,
+                pair.penalty,
+            );
+            pad.warp_springs = springs.len();
+            reduced.scalar_springs.extend(springs);
         }
         reduced.pairs[i] = contact::node_to_node(pair.settings.clone(), pair.penalty, points)
             .map_err(|e| ReduceError::InvalidSurface {

@@ -43,6 +43,7 @@ pub mod strategy;
 pub mod superelement;
 pub mod superelement_file;
 pub mod tilt;
+pub mod warp;
 
 pub use basis::{CoordinatesError, LocalBasis};
 pub use coupling::{

@@ -1164,6 +1164,34 @@ mod tests {
         );
     }
 
+    /// `warp_springs` reads, is off unless asked for (and then not written, so studies
+    /// without it keep their keys), and a study that asks for it without patch laws over
+    /// share couplings is refused naming the key.
+    #[test]
+    fn the_warp_springs_key_reads_and_needs_patch_laws_over_shares() {
+        let r: ReductionSpec = toml::from_str("contact_nodes_per_pad = 6\n").unwrap();
+        assert!(!r.settings().unwrap().warp_springs);
+        assert!(!toml::to_string(&r).unwrap().contains("warp_springs"));
+        let r: ReductionSpec =
+            toml::from_str("contact_nodes_per_pad = 6\nwarp_springs = true\n").unwrap();
+        assert!(r.settings().unwrap().warp_springs);
+        for other in [
+            "tilt = false",
+            "pad_coupling = \"distributing\"",
+            "k_cubic = 1e15",
+        ] {
+            let p = write(
+                "warp.toml",
+                &format!("[reduction]\ncontact_nodes_per_pad = 6\nwarp_springs = true\n{other}\n"),
+            );
+            let e = Study::read(&p).unwrap_err().to_string();
+            assert!(
+                e.contains("warp.toml") && e.contains("reduction.warp_springs"),
+                "{other}: {e}"
+            );
+        }
+    }
+
     /// `pad_coupling` reads, names itself when wrong, and is written at its default too:
     /// the default was "distributing" before it was "auto", and a study that does not name
     /// it must not find the stages of the old default under its keys.

@@ -61,6 +61,11 @@ pub struct ReductionSpec {
     /// otherwise, and whenever k_linear or k_cubic asks for the cubic law.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tilt: Option<bool>,
+    /// Each share's warping springs: the full model's penalty against the pad face's warping
+    /// inside the share ([`crate::reduce::warp`]), on patch laws over share couplings. Off
+    /// unless asked for.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub warp_springs: bool,
     /// Craig-Bampton super-elements on the reduced interface, assembled with node-to-node
     /// cubic contact: "single", "per-friction" or "adaptive". Absent: the reduced-interface
     /// model itself is swept.
@@ -108,6 +113,7 @@ impl ReductionSpec {
             disc_coupling: DiscCoupling::default(),
             area_weighting: false,
             tilt: None,
+            warp_springs: false,
             superelements: None,
             superelement_friction: None,
             cutoff_frequency_hz: None,
@@ -138,6 +144,7 @@ impl ReductionSpec {
             disc_coupling: self.disc_coupling,
             area_weighting: self.area_weighting,
             tilt: self.tilt.or(self.cubic_law().then_some(false)),
+            warp_springs: self.warp_springs,
             reduce_pairs: self.reduce_pairs.clone(),
             pair_grids,
         })
@@ -236,6 +243,20 @@ impl ReductionSpec {
                      over each share: reduction.k_linear and reduction.k_cubic are a point \
                      contact's cubic law and cannot be set with them (leave them out, or \
                      leave reduction.tilt out)"
+                    .into(),
+            ));
+        }
+        let no_patch_laws = self.tilt == Some(false)
+            || self.cubic_law()
+            || self.pad_coupling == PadCoupling::Distributing;
+        if self.warp_springs && no_patch_laws {
+            return Err(bad(
+                "reduction.warp_springs".into(),
+                "warping springs stand on patch laws over share couplings (they hold the pad \
+                 face's warping within each share, beyond the share's plane the patch law \
+                 holds): ask for those (leave reduction.tilt, reduction.pad_coupling, \
+                 reduction.k_linear and reduction.k_cubic out), or leave \
+                 reduction.warp_springs out"
                     .into(),
             ));
         }
