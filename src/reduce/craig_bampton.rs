@@ -21,6 +21,12 @@
 //!   the modes of sym(K_II)).
 //! - T = [[I, 0, 0], [Psi, Phi, r]] in the model's equation order, distributed like K;
 //!   K_r = T^T K_t T, M_r = T^T M T, load T^T F.
+//! - A model with linear constraints (a deck's `*TIE`, `*COUPLING`, `*EQUATION`; u = C x):
+//!   all of the above in the solvers' free numbering, on C^T K_t C, C^T M C and C^T F (the
+//!   constraints are part of the interior; the boundary's extra nodes are never dependent),
+//!   and the basis kept as C T, in the model's numbering, for every expansion and
+//!   projection after the build. Constraints that prescribe displacements (offsets g) are
+//!   refused by name: the static correction would need the offsets' load.
 //! - q_s: u_B read off the equilibrium; (eta, alpha) the M_II-weighted least-squares fit of
 //!   u_I - Psi u_B by Phi eta + alpha r.
 //!
@@ -59,8 +65,8 @@ pub enum SuperElementError {
     NotReducedPoint { pair: String, point: usize },
     #[error("node {node} of the reduced interface has a supported component: a reduced contact node must be free")]
     SupportedBoundary { node: usize },
-    #[error("the model has {count} linear constraint(s) (a deck's *EQUATION, *TIE, *COUPLING, prescribed displacements or supports in *TRANSFORM directions, first from {first}): super-elements do not take constraints yet; compare the full model with its reduced interfaces (a study's superelements = [])")]
-    Constraints { count: usize, first: String },
+    #[error("the model prescribes displacements through its constraints (a deck's *BOUNDARY with a value in a *TRANSFORM direction or an *EQUATION's offset, first from {first}): super-elements do not take prescribed displacements yet; compare the full model with its reduced interfaces (a study's superelements = [])")]
+    Prescribed { first: String },
     #[error("the equilibrium has {given} nodes, the model {expected}")]
     EquilibriumSize { given: usize, expected: usize },
     #[error("the cut-off frequency must be positive and finite, got {0}")]
@@ -88,8 +94,11 @@ struct Boundary {
     /// ([`super::superelement::BoundaryTilt::shared`]).
     shared: Vec<Option<usize>>,
     /// The equations in super-element order (6 per point, 12 with a patch law's own tilt
-    /// nodes).
+    /// nodes), in the model's numbering.
     equations: Vec<usize>,
+    /// The same in the solvers' numbering (the free one of a model with constraints: a
+    /// reduced contact or tilt node is an extra node, which no constraint makes dependent).
+    solver_equations: Vec<usize>,
 }
 
 fn boundary(
@@ -98,13 +107,6 @@ fn boundary(
     swept: &[usize],
 ) -> Result<Boundary, SuperElementError> {
     let model = &reduced.model;
-    // The boundary and interior below are numbered in K's unconstrained equations.
-    if let Some(first) = model.constraints.first() {
-        return Err(SuperElementError::Constraints {
-            count: model.constraints.len(),
-            first: first.source.clone(),
-        });
-    }
     let pairs = model.pairs.len();
     if swept.is_empty() {
         return Err(SuperElementError::NoSweptPair);
@@ -146,7 +148,9 @@ fn boundary(
         }
     }
     let dofs = &operators.dofs;
+    let solver = operators.solver_dofs();
     let mut equations = Vec::with_capacity(12 * points.len());
+    let mut solver_equations = Vec::with_capacity(12 * points.len());
     // Each tilt node pair is on the boundary once, after the first point that reads it: a
     // share on one line reads its neighbour's ([`super::tilt::slope_owners`]), and a
     // coordinate twice would make the constraint modes dependent.
@@ -168,10 +172,14 @@ fn boundary(
         }
         for node in [c, d].into_iter().chain(tilt.into_iter().flatten()) {
             for component in 0..3 {
-                equations.push(
-                    dofs.equation(node, component)
-                        .ok_or(SuperElementError::SupportedBoundary { node })?,
-                );
+                let (Some(e), Some(s)) = (
+                    dofs.equation(node, component),
+                    solver.equation(node, component),
+                ) else {
+                    return Err(SuperElementError::SupportedBoundary { node });
+                };
+                equations.push(e);
+                solver_equations.push(s);
             }
         }
     }
@@ -179,6 +187,7 @@ fn boundary(
         points,
         shared,
         equations,
+        solver_equations,
     })
 }
 
@@ -266,27 +275,53 @@ fn build<'rt>(
     }
     let (kept, kept_slip) = kept_pairs(reduced, equilibrium, slip, swept)?;
     let boundary = boundary(reduced, operators, swept)?;
-    let dofs = &operators.dofs;
+    let dofs = operators.solver_dofs();
 
     // 1. K_t and the load less the kept contacts' constant part (see [`linearised`]).
     let (k_t, effective_load) = linearised(comm, operators, &kept, &kept_slip, equilibrium)?;
+    // A model with constraints (u = C x): the reduction is made in the solvers' numbering,
+    // on C^T K_t C, C^T M C and C^T F, the constraints inside the interior; T goes back to
+    // the model's equations as C T at the end, so that everything that expands with T or
+    // projects on it sees the model's numbering either way.
+    let constraints = operators.constraints.as_ref();
+    if constraints.is_some_and(|c| c.prescribes) {
+        return Err(SuperElementError::Prescribed {
+            first: model
+                .constraints
+                .first()
+                .map_or_else(String::new, |c| c.source.clone()),
+        });
+    }
+    let projected_mass;
+    let (k_t, effective_load, mass) = match constraints {
+        Some(c) => {
+            let mut f = c.free_vector()?;
+            c.restrict_into(&effective_load, &mut f)?;
+            projected_mass = c.project(&operators.mass)?;
+            (c.project(&k_t)?, f, &projected_mass)
+        }
+        None => (k_t, effective_load, &operators.mass),
+    };
     // Only friction of a kept pair makes K_t unsymmetric (decided from the data, the same on
     // every rank, rather than by a tolerance on the entries).
     let symmetric = kept.iter().all(|p| p.settings.friction == 0.0);
 
     // 2. Boundary and interior index sets (sorted for PETSc; `column` maps a sorted position
     // to the super-element's column).
-    let n_b = boundary.equations.len();
+    let n_b = boundary.solver_equations.len();
     let mut order: Vec<usize> = (0..n_b).collect();
-    order.sort_by_key(|&j| boundary.equations[j]);
-    let sorted: Vec<usize> = order.iter().map(|&j| boundary.equations[j]).collect();
+    order.sort_by_key(|&j| boundary.solver_equations[j]);
+    let sorted: Vec<usize> = order
+        .iter()
+        .map(|&j| boundary.solver_equations[j])
+        .collect();
     let column = order;
     let (lo, hi) = k_t.ownership_range()?;
     let b_set = IndexSet::owned_subset(comm, lo..hi, &sorted)?;
     let i_set = b_set.complement(lo..hi)?;
     let mut k_ii = k_t.submatrix(&i_set, &i_set)?;
     let k_ib = k_t.submatrix(&i_set, &b_set)?;
-    let mut m_ii = operators.mass.submatrix(&i_set, &i_set)?;
+    let mut m_ii = mass.submatrix(&i_set, &i_set)?;
     m_ii.mark_symmetric()?;
     let interior = i_set.indices()?;
 
@@ -378,7 +413,7 @@ fn build<'rt>(
 
     // 4. Projections.
     let stiffness = project_stiffness(&k_t, &t, n_b, &local_boundary, lo)?;
-    let mass = operators.mass.project_symmetric(&t)?;
+    let mass_r = mass.project_symmetric(&t)?;
     let f = DenseMatrix::from_columns(comm, &[effective_load.copy()?])?;
     let projected_load = t.transpose_mult(&f)?;
     let load_r: Vec<f64> = (0..size).map(|i| projected_load[(i, 0)]).collect();
@@ -401,7 +436,11 @@ fn build<'rt>(
         }
         u
     };
-    let u_b: Vec<f64> = boundary.equations.iter().map(|&g| u_all[g]).collect();
+    let u_b: Vec<f64> = boundary
+        .solver_equations
+        .iter()
+        .map(|&g| u_all[g])
+        .collect();
     let mut fit = DenseMatrix::zeros(comm, interior.len(), n_m + 2)?;
     fit.write_local(|p, j| {
         if j < n_m {
@@ -496,13 +535,17 @@ fn build<'rt>(
             boundary: pairs_out,
         },
         stiffness,
-        mass,
+        mass: mass_r,
         load: load_r,
         equilibrium: q_s,
     };
+    let basis = match constraints {
+        Some(c) => c.matrix.mult_dense(&t)?,
+        None => t,
+    };
     Ok(CraigBampton {
         superelement,
-        basis: t,
+        basis,
         boundary_points: boundary.points.iter().map(|&(i, k, _, _)| (i, k)).collect(),
         boundary_equations: boundary.equations,
     })

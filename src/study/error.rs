@@ -224,14 +224,15 @@ pub enum StudyError {
          damping or sweep the reduced-interface model (no reduction.superelements)"
     )]
     DampedSuperElements { file: String },
-    /// Super-elements asked, by the study's plan, of a model with linear constraints.
+    /// Super-elements asked, by the study's plan, of a model whose constraints prescribe
+    /// displacements.
     #[error(
-        "{file}: comparison.superelements: the model has {count} linear constraint(s) (*TIE, \
-         *EQUATION, *COUPLING, prescribed displacements or supports in *TRANSFORM directions, \
-         first from {first}), and super-elements do not take constraints yet; the reduced \
-         interfaces do: give superelements = []"
+        "{file}: comparison.superelements: {count} of the model's constraints prescribe \
+         displacements (an *EQUATION's offset or a *BOUNDARY value in a *TRANSFORM \
+         direction, first from {first}), and super-elements do not take prescribed \
+         displacements yet; the reduced interfaces do: give superelements = []"
     )]
-    ConstrainedSuperElements {
+    PrescribedSuperElements {
         file: String,
         count: usize,
         first: String,

@@ -201,9 +201,12 @@ pub fn run_command(
     })
 }
 
-/// A deck with linear constraints (`*TIE`, `*EQUATION`, ...) takes reduced interfaces but no
-/// super-elements yet: the default plan leaves them out and says so; a plan that asks for
-/// them is refused before any stage runs (not after the full model's sweep). Collective.
+/// A deck whose constraints prescribe displacements (an `*EQUATION`'s offset, a `*BOUNDARY`
+/// value in a `*TRANSFORM` direction) takes reduced interfaces but no super-elements yet
+/// (their static correction has no offsets): the default plan leaves them out and says so;
+/// a plan that asks for them is refused before any stage runs (not after the full model's
+/// sweep). Ties, couplings and homogeneous equations are the super-element's interior.
+/// Collective.
 fn constrained_plan(
     comm: crate::petsc::Comm<'_>,
     study: &mut crate::study::config::Study,
@@ -226,24 +229,30 @@ fn constrained_plan(
             source,
         }),
     )?;
-    let Some(first) = model.constraints.first() else {
+    let prescribing: Vec<_> = model
+        .constraints
+        .iter()
+        .filter(|c| c.value != 0.0)
+        .collect();
+    let Some(first) = prescribing.first() else {
         return Ok(());
     };
     if planned {
         // The same model and plan on every rank: every rank has this error, rank 0 says it.
-        return Err(StudyError::ConstrainedSuperElements {
+        return Err(StudyError::PrescribedSuperElements {
             file: path.display().to_string(),
-            count: model.constraints.len(),
+            count: prescribing.len(),
             first: first.source.clone(),
         }
         .collective());
     }
     if comm.rank() == 0 {
         println!(
-            "{}: {} linear constraint(s) (first from {}): the default plan runs the reduced \
-             interfaces without super-elements, which do not take constraints yet",
+            "{}: {} constraint(s) prescribe displacements (first from {}): the default plan \
+             runs the reduced interfaces without super-elements, which do not take prescribed \
+             displacements yet",
             path.display(),
-            model.constraints.len(),
+            prescribing.len(),
             first.source
         );
     }
