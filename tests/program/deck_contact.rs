@@ -419,17 +419,42 @@ fn a_tied_pad_reduces_as_the_merged_pad_does_and_its_study_compares_full_and_red
         }
     }
 
-    let deck = "tied_pad_on_plate";
-    let said = run_ok(&["study", study(deck, "[\"per-friction\"]").to_str().unwrap()]);
-    let report = std::fs::read_to_string(dir.join(deck).join("report.md")).unwrap();
+    // A disc brake as users write it (examples/make_tied_disc_brake_deck.py): each pad's
+    // lining tied to a finer backplate, both pads on a turning disc. Its study compares the
+    // full model with a reduced interface, which finds the full model's instability near
+    // 5.6 kHz at mu 0.6 (growth 73 1/s; measured 0.10 % off), and with per-friction
+    // super-elements (their comparison is written; with fixed-interface modes to 12 kHz
+    // they hold that weak pair uncoupled, 5613 and 5637 Hz, where the interface couples it
+    // at 2a/omega 0.2 %).
+    let brake = dir.join("brake.toml");
+    let out = dir.join("brake");
+    std::fs::write(
+        &brake,
+        format!(
+            "output = {out:?}\n[mesh]\nfile = {:?}\n[analysis]\nfriction = [0.6]\n\
+             max_frequency_hz = 6000.0\n[comparison]\ncontact_nodes_per_pad = [12]\n\
+             superelements = [\"per-friction\"]\n",
+            data("tied_disc_brake.inp")
+        ),
+    )
+    .unwrap();
+    let said = run_ok(&["study", brake.to_str().unwrap()]);
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
     assert!(
-        report.contains("reduced-9") && report.contains("superelements-per-friction-9"),
+        report.contains("reduced-12") && report.contains("superelements-per-friction-12"),
         "{report}"
     );
-    for compared in ["compare-reduced", "compare-superelements"] {
-        assert!(
-            dir.join(deck).join(compared).join("compare.json").exists(),
-            "{said}"
-        );
-    }
+    let c = json(&out.join("compare-reduced/compare.json"));
+    let found = c["instabilities"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|i| i["matched"] == serde_json::Value::Bool(true))
+        .filter(|i| (i["reference_frequency_hz"].as_f64().unwrap() - 5620.0).abs() < 60.0)
+        .count();
+    assert_eq!(found, 1, "{c}\n{said}");
+    assert!(
+        out.join("compare-superelements/compare.json").exists(),
+        "{said}"
+    );
 }
