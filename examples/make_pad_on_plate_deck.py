@@ -34,21 +34,10 @@ FACES = [(0, 1, 2), (0, 3, 1), (1, 3, 2), (2, 3, 0)]  # Abaqus S1..S4 corners
 PERMS = [(0, 1, 2), (0, 2, 1), (1, 0, 2), (1, 2, 0), (2, 0, 1), (2, 1, 0)]
 
 
-def box(origin, size, cells, first_node, first_element):
-    """Nodes {label: (x, y, z)} and elements [(label, [10 node labels])] of a Kuhn-split box."""
-    m = [2 * c + 1 for c in cells]
-
-    def label(h):
-        return first_node + h[0] + m[0] * (h[1] + m[1] * h[2])
-
-    nodes = {}
-    for k in range(m[2]):
-        for j in range(m[1]):
-            for i in range(m[0]):
-                h = (i, j, k)
-                nodes[label(h)] = tuple(
-                    origin[c] + h[c] * size[c] / (2 * cells[c]) for c in range(3)
-                )
+def kuhn_elements(cells, label, first_element):
+    """The C3D10 elements [(label, [10 node labels])] of a grid of `cells`, each cell split
+    into the six Kuhn tetrahedra (positively oriented in index space), corners and mid-edge
+    nodes named by `label` of their doubled grid index (i, j, k)."""
     elements = []
     e = first_element
     for k in range(cells[2]):
@@ -73,7 +62,25 @@ def box(origin, size, cells, first_node, first_element):
                         conn.append(label([(v[a][c] + v[b][c]) // 2 for c in range(3)]))
                     elements.append((e, conn))
                     e += 1
-    return nodes, elements
+    return elements
+
+
+def box(origin, size, cells, first_node, first_element):
+    """Nodes {label: (x, y, z)} and elements [(label, [10 node labels])] of a Kuhn-split box."""
+    m = [2 * c + 1 for c in cells]
+
+    def label(h):
+        return first_node + h[0] + m[0] * (h[1] + m[1] * h[2])
+
+    nodes = {}
+    for k in range(m[2]):
+        for j in range(m[1]):
+            for i in range(m[0]):
+                h = (i, j, k)
+                nodes[label(h)] = tuple(
+                    origin[c] + h[c] * size[c] / (2 * cells[c]) for c in range(3)
+                )
+    return nodes, kuhn_elements(cells, label, first_element)
 
 
 def faces_at(nodes, elements, z):

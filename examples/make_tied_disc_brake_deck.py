@@ -17,6 +17,9 @@ steel behind it, held in x and y on its back and pressed by 1 MPa there. Every c
 into the six Kuhn tetrahedra with quadratic (C3D10) elements; the disc's mid-edge nodes lie on
 its arcs. Contact: linear pressure-overclosure slope 1e13 Pa/m, mu 0.3, linings the slaves.
 
+tests/data keeps tied_disc_brake.inp (tests/program/deck_contact.rs runs its study); the two
+others are the exact check the README gives figures for (the tie node on node is the merge).
+
 Usage: python3 examples/make_tied_disc_brake_deck.py [folder]   (default tests/data)
 """
 import math
@@ -24,7 +27,7 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from make_pad_on_plate_deck import EDGES, PERMS, box, faces_at, lines  # noqa: E402
+from make_pad_on_plate_deck import box, faces_at, kuhn_elements, lines  # noqa: E402
 
 HEAD = "** Written by examples/make_tied_disc_brake_deck.py (squeal).\n"
 RI, RO, HALF = 0.06, 0.14, 0.006
@@ -50,31 +53,7 @@ def disc(cells, first_node, first_element):
                 t = 2 * math.pi * j / m_t
                 z = -HALF + 2 * HALF * k / (2 * nz)
                 nodes[label((i, j, k))] = (r * math.cos(t), r * math.sin(t), z)
-    elements = []
-    e = first_element
-    for k in range(nz):
-        for j in range(nt):
-            for i in range(nr):
-                for p in PERMS:
-                    v = [[2 * i, 2 * j, 2 * k]]
-                    for step in range(3):
-                        w = list(v[-1])
-                        w[p[step]] += 2
-                        v.append(w)
-                    d = [[v[a][c] - v[0][c] for c in range(3)] for a in (1, 2, 3)]
-                    det = (
-                        d[0][0] * (d[1][1] * d[2][2] - d[1][2] * d[2][1])
-                        - d[0][1] * (d[1][0] * d[2][2] - d[1][2] * d[2][0])
-                        + d[0][2] * (d[1][0] * d[2][1] - d[1][1] * d[2][0])
-                    )
-                    if det < 0:
-                        v[1], v[2] = v[2], v[1]
-                    conn = [label(h) for h in v]
-                    for a, b in EDGES:
-                        conn.append(label([(v[a][c] + v[b][c]) // 2 for c in range(3)]))
-                    elements.append((e, conn))
-                    e += 1
-    return nodes, elements
+    return nodes, kuhn_elements(cells, label, first_element)
 
 
 def pad(side, backplate_cells, merged, first):
