@@ -406,6 +406,7 @@ fn left_vectors<'rt>(
         .filter(|f| (f.1 - target).norm() <= reach * (1.0 + SAME_EIGENVALUE))
         .count()
         .max(2);
+    let started = std::time::Instant::now();
     // A left solve that fails costs the sensitivities, never the modes (PETSc's errors are
     // every rank's here: the same solve on the same operator).
     let left = match LeftSolver::solve(
@@ -454,6 +455,14 @@ fn left_vectors<'rt>(
             mass_form,
         });
     }
+    tracing::debug!(
+        "left vectors about {:.0} Hz: {} pairs of the transposed pencil asked, {} converged \
+         ({:.2} s)",
+        target.max(0.0).sqrt() / (2.0 * PI),
+        count,
+        values.len(),
+        started.elapsed().as_secs_f64()
+    );
     Ok(())
 }
 
