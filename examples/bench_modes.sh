@@ -48,6 +48,12 @@ seconds() { # command... -> wall seconds on stdout, the command's output in last
 }
 median() { sort -g | awk '{v[NR]=$1} END {print (NR%2) ? v[(NR+1)/2] : (v[NR/2]+v[NR/2+1])/2}'; }
 
+# OpenBLAS's kernel moves squeal's factorisations by about 1.5x (Prescott against SkylakeX
+# on the disc) and ccx's time not at all: say which one each side runs. squeal pins one
+# where OPENBLAS_CORETYPE is unset (src/study/blas_kernel.rs); a value set in the
+# environment is used by both programs as it is.
+echo "kernel: squeal $("$SQUEAL" info 2>/dev/null | grep -ao 'kernel [A-Za-z0-9]*' | cut -d' ' -f2 || echo '?'), \
+ccx ${OPENBLAS_CORETYPE:-the one OpenBLAS picks}" | tee kernel.txt
 : >times.txt
 for i in $(seq "$REPS"); do
     for n in 1 2; do
