@@ -47,6 +47,7 @@ fn main() -> ExitCode {
             every.push(t.elapsed().as_secs_f64());
             let solver = DenseEigensolver::Windows {
                 solo: rt.self_comm(),
+                shared: rt.self_comm(),
             };
             let t = Instant::now();
             let band = dense_cea_by(solver, k.as_ref(), m.as_ref(), &options);

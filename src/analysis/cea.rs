@@ -63,6 +63,10 @@ pub struct CeaOptions {
     /// Whether the unstable modes' left eigenvectors are computed too (undamped CEA only):
     /// what their sensitivities are made of ([`crate::analysis::sensitivity`]).
     pub left_vectors: bool,
+    /// Only the eigenvalues with Re omega^2 in [from, to), the windows starting at `from`
+    /// (from 0 when it is not positive): one rank's share of a band split between ranks
+    /// ([`crate::reduce::dense_cea`]). A share holding none is no error. `None`: the band.
+    pub strip: Option<(f64, f64)>,
 }
 
 impl Default for CeaOptions {
@@ -76,6 +80,7 @@ impl Default for CeaOptions {
             linear: LinearMethod::default(),
             expected_rigid_modes: None,
             left_vectors: false,
+            strip: None,
         }
     }
 }
@@ -544,11 +549,14 @@ pub fn undamped<'rt>(
     // up to ~1.18 f_max, 1.4-1.7 N of them for plate-like to bulk mode densities.
     let size = template.global_size()?;
     let window = options.modes_per_target.max(4).min(size);
+    let (from, to) = options.strip.unwrap_or((f64::NEG_INFINITY, f64::INFINITY));
     let (mut target, mut count) = match options.expected_modes {
-        Some(n) if n > 0 => (0.6 * top, (3 * n / 2 + 6).min(size)),
+        _ if from > 0.0 => (from, window),
+        Some(n) if n > 0 && options.strip.is_none() => (0.6 * top, (3 * n / 2 + 6).min(size)),
         _ => (0.0, window),
     };
-    let mut lower = f64::NEG_INFINITY;
+    // A strip from above 0 starts its first window's accepted part there, not below.
+    let mut lower = if from > 0.0 { from } else { f64::NEG_INFINITY };
     let mut retries = 0;
     loop {
         // SLEPc's default subspace is twice the count; past the base window, count + 16
@@ -601,10 +609,10 @@ pub fn undamped<'rt>(
         retries = 0;
         targets.push(target);
         let upper = target + 0.5 * radius;
-        let last = upper >= top || everything;
+        let last = upper >= top.min(to) || everything;
         let first_accepted = accepted.len();
         for &(i, value) in &found {
-            let inside = value.re >= lower && (last || value.re < upper);
+            let inside = value.re >= lower && (last || value.re < upper) && value.re < to;
             if !inside || lambda_of(value).im / (2.0 * PI) > options.max_frequency_hz {
                 continue;
             }
@@ -649,7 +657,7 @@ pub fn undamped<'rt>(
         target += 0.97 * radius;
         count = window;
     }
-    if accepted.is_empty() {
+    if accepted.is_empty() && options.strip.is_none() {
         return Err(CeaError::EmptyBand(options.max_frequency_hz));
     }
     let level = rigid::roundoff_level(comm, stiffness, mass)?;

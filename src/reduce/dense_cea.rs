@@ -11,7 +11,12 @@
 //! windows pay from a few hundred on: `examples/dense_cea_bench.rs`, medians of three,
 //! interleaved, on pencils of that spectrum: size 400 0.057 s every / 0.009 s windows, 800
 //! 0.252 / 0.040, 1,200 0.602 / 0.253, 1,800 1.61 / 1.20. In small-caliper's nine-value
-//! sweep the dense CEA went from 1.9-2.1 s to 1.0-1.3 s a point.
+//! sweep the dense CEA went from 1.9-2.1 s to 1.0-1.3 s a point. The windows are shared
+//! between the ranks ([`band_share`]): on 2 ranks, small-caliper's super-element of size
+//! 1,801 (every pair reduced, single), nine values, interleaved runs: the dense CEA's
+//! median 1.2 -> 0.8 s a point, the point's 2.2 -> 1.8 s. Its lower half holds 44 of the 56
+//! modes (3 windows against 1-2): parts of equal mode counts (from the previous point's
+//! modes) would balance them better.
 
 use super::assembly::AssemblyError;
 use crate::analysis::cea::{
@@ -77,36 +82,179 @@ pub enum DenseEigensolver<'rt> {
     /// faer: every eigenvalue and eigenvector of the whole problem (about 25 n^3 flops).
     Every,
     /// The full model's CEA ([`crate::analysis::cea::undamped`]) on PETSc dense copies of
-    /// K and M on this rank alone: shift-and-invert windows over the band only, each one
-    /// LAPACK LU (2/3 n^3) and Krylov-Schur's solves (n^2 each). `solo` is a communicator
-    /// of this one rank.
-    Windows { solo: Comm<'rt> },
+    /// K and M: shift-and-invert windows over the band only, each one LAPACK LU (2/3 n^3)
+    /// and Krylov-Schur's solves (n^2 each). Each rank of `shared` takes its share of the
+    /// band ([`band_share`]) on `solo`, a communicator of that rank alone, and every rank
+    /// gets every share's modes: on 2 ranks each runs about half the windows, where rank 1
+    /// used to wait for rank 0's. Every rank of `shared` calls it with the same K and M.
+    Windows { solo: Comm<'rt>, shared: Comm<'rt> },
 }
 
 impl<'rt> DenseEigensolver<'rt> {
-    /// [`Self::Windows`] from [`WINDOWS_FROM`] on, [`Self::Every`] below.
-    pub fn choose(size: usize, solo: Comm<'rt>) -> Self {
+    /// [`Self::Windows`] over the ranks of `shared` from [`WINDOWS_FROM`] on, [`Self::Every`]
+    /// below.
+    pub fn choose(size: usize, shared: Comm<'rt>) -> Self {
         if size >= WINDOWS_FROM {
-            DenseEigensolver::Windows { solo }
+            DenseEigensolver::Windows {
+                solo: shared.alone(),
+                shared,
+            }
         } else {
             DenseEigensolver::Every
         }
     }
 }
 
+/// Rank `rank`'s share of the band [0, top] in Re omega^2 among `ranks`: equal parts, the
+/// first open below (divergence modes, Re omega^2 < 0, are the first rank's) and the last
+/// open above (the band's top is decided by frequency, as for one rank). Equal parts of
+/// omega^2 put fewer modes in the higher shares of a structure whose modes thicken with
+/// frequency, but each window costs one LU whatever it holds: on small-caliper's
+/// super-element (56 modes, 4 windows on one rank) the lower half takes 2 windows, the upper 1-2.
+pub fn band_share(rank: usize, ranks: usize, top: f64) -> (f64, f64) {
+    let at = |k: usize| top * k as f64 / ranks as f64;
+    let from = if rank == 0 {
+        f64::NEG_INFINITY
+    } else {
+        at(rank)
+    };
+    let to = if rank + 1 >= ranks {
+        f64::INFINITY
+    } else {
+        at(rank + 1)
+    };
+    (from, to)
+}
+
 /// The dense CEA by `solver`: [`dense_cea`] or its windows (the same modes: the windows
 /// find every eigenvalue of the band to the CEA's tolerance, and the result is classified,
-/// normalised and its residuals measured exactly as [`dense_cea`] does).
+/// normalised and its residuals measured exactly as [`dense_cea`] does). With windows over
+/// several ranks, collective: a failure on one rank is every rank's.
 pub fn dense_cea_by(
     solver: DenseEigensolver<'_>,
     stiffness: MatRef<'_, f64>,
     mass: MatRef<'_, f64>,
     options: &DenseCeaOptions,
 ) -> Result<DenseCeaResult, AssemblyError> {
-    let DenseEigensolver::Windows { solo } = solver else {
+    let DenseEigensolver::Windows { solo, shared } = solver else {
         return dense_cea(stiffness, mass, options);
     };
     check_input(stiffness, mass, options)?;
+    // Rigid-body flags are decided over the whole band's magnitudes; after a static
+    // (no free body) none is rigid, and the band splits with nothing to decide.
+    let ranks = if options.expected_rigid_modes == Some(0) {
+        shared.size()
+    } else {
+        1
+    };
+    let rank = shared.rank();
+    let top = (2.0 * PI * options.max_frequency_hz).powi(2);
+    let local = (rank < ranks).then(|| {
+        let strip = (ranks > 1).then(|| band_share(rank, ranks, top));
+        windows(solo, stiffness, mass, options, strip)
+    });
+    if shared.size() == 1 {
+        return local.unwrap_or_else(|| unreachable!("rank 0 of one always has a share"));
+    }
+    let failed = local
+        .as_ref()
+        .and_then(|r| r.as_ref().err().map(|e| e.to_string()));
+    if let Some((at, message)) = shared.first_message(failed) {
+        return Err(match local {
+            Some(Err(own)) if at == rank => own,
+            _ => AssemblyError::Eigen(format!("the dense CEA's windows on rank {at}: {message}")),
+        });
+    }
+    let mine = match local {
+        Some(Ok(r)) => r,
+        _ => DenseCeaResult {
+            modes: Vec::new(),
+            shapes: Vec::new(),
+        },
+    };
+    Ok(gathered(
+        shared,
+        mine,
+        stiffness.nrows(),
+        options.unstable_threshold,
+    ))
+}
+
+/// Rank 0's modes (`Some` there, `None` elsewhere) on every rank, with the same bits.
+/// Collective.
+pub fn from_root(
+    shared: Comm<'_>,
+    on_root: Option<DenseCeaResult>,
+    n: usize,
+    unstable_threshold: f64,
+) -> DenseCeaResult {
+    let mine = on_root.unwrap_or(DenseCeaResult {
+        modes: Vec::new(),
+        shapes: Vec::new(),
+    });
+    gathered(shared, mine, n, unstable_threshold)
+}
+
+/// Every rank's share of the modes on every rank, sorted by frequency. Each rank writes its
+/// own slots of one buffer and the buffers are summed: a slot holds one rank's value and
+/// zeros, so every rank gets the same bits. Collective.
+fn gathered(
+    shared: Comm<'_>,
+    mine: DenseCeaResult,
+    n: usize,
+    unstable_threshold: f64,
+) -> DenseCeaResult {
+    let mut counts = vec![0.0; shared.size()];
+    counts[shared.rank()] = mine.modes.len() as f64;
+    shared.sum_in_place(&mut counts);
+    let counts: Vec<usize> = counts.iter().map(|&c| c as usize).collect();
+    // Per mode: lambda (re, im), residual, rigid flag, then the shape's re and im parts.
+    let record = 4 + 2 * n;
+    let total: usize = counts.iter().sum();
+    let mut buffer = vec![0.0; total * record];
+    let first: usize = counts[..shared.rank()].iter().sum();
+    for (k, (mode, shape)) in mine.modes.iter().zip(&mine.shapes).enumerate() {
+        let slot = &mut buffer[(first + k) * record..(first + k + 1) * record];
+        slot[..4].copy_from_slice(&[
+            mode.lambda.re,
+            mode.lambda.im,
+            mode.residual,
+            f64::from(u8::from(mode.rigid_body)),
+        ]);
+        for (i, z) in shape.iter().enumerate() {
+            slot[4 + i] = z.re;
+            slot[4 + n + i] = z.im;
+        }
+    }
+    shared.sum_in_place(&mut buffer);
+    let mut found: Vec<(ComplexMode, Vec<Complex64>)> = buffer
+        .chunks(record)
+        .map(|slot| {
+            let mode = mode_from_lambda(
+                Complex64::new(slot[0], slot[1]),
+                slot[2],
+                unstable_threshold,
+                slot[3] != 0.0,
+            );
+            let shape = (0..n)
+                .map(|i| Complex64::new(slot[4 + i], slot[4 + n + i]))
+                .collect();
+            (mode, shape)
+        })
+        .collect();
+    found.sort_by(|a, b| by_frequency(&a.0, &b.0));
+    let (modes, shapes) = found.into_iter().unzip();
+    DenseCeaResult { modes, shapes }
+}
+
+/// The windows' modes of the band, or of `strip` (Re omega^2 in [from, to)), on `solo`.
+fn windows(
+    solo: Comm<'_>,
+    stiffness: MatRef<'_, f64>,
+    mass: MatRef<'_, f64>,
+    options: &DenseCeaOptions,
+    strip: Option<(f64, f64)>,
+) -> Result<DenseCeaResult, AssemblyError> {
     let n = stiffness.nrows();
     let petsc = |e: PetscError| AssemblyError::Eigen(format!("the dense CEA's windows: {e}"));
     let k = Matrix::sequential_dense(solo, stiffness).map_err(petsc)?;
@@ -124,41 +272,58 @@ pub fn dense_cea_by(
                 package: DirectPackage::Petsc,
                 factorization: Factorization::Lu,
             },
+            strip,
             ..Default::default()
         },
     )
     .map_err(|e| AssemblyError::Eigen(format!("the dense CEA's windows on size {n}: {e}")))?;
     let relative = found.modes.iter().map(|m| m.residual).fold(0.0, f64::max);
-    let (k_norm, m_norm) = (frobenius(stiffness), frobenius(mass));
-    let mut modes = Vec::with_capacity(found.modes.len());
-    let mut shapes = Vec::with_capacity(found.modes.len());
-    for (mode, (re, im)) in found.modes.into_iter().zip(&found.shapes) {
+    let count = found.modes.len();
+    // The shapes side by side: K X and M X as two products, not 4 count products of n^2
+    // each (each one reads the whole matrix: memory-bound).
+    let mut xr = Mat::<f64>::zeros(n, count);
+    let mut xi = Mat::<f64>::zeros(n, count);
+    for (c, (re, im)) in found.shapes.iter().enumerate() {
         let (re, im) = (re.read().map_err(petsc)?, im.read().map_err(petsc)?);
-        let xr = Mat::from_fn(n, 1, |i, _| re[i]);
-        let xi = Mat::from_fn(n, 1, |i, _| im[i]);
+        for i in 0..n {
+            xr[(i, c)] = re[i];
+            xi[(i, c)] = im[i];
+        }
+    }
+    let (kr, ki) = (stiffness * &xr, stiffness * &xi);
+    let (mr, mi) = (mass * &xr, mass * &xi);
+    let (k_norm, m_norm) = (frobenius(stiffness), frobenius(mass));
+    let mut modes = Vec::with_capacity(count);
+    let mut shapes = Vec::with_capacity(count);
+    for (c, mode) in found.modes.into_iter().enumerate() {
         let w2 = -(mode.lambda * mode.lambda);
-        let (kr, ki) = (stiffness * &xr, stiffness * &xi);
-        let (mr, mi) = (mass * &xr, mass * &xi);
         let residual = backward_error(
             (0..n).map(|i| {
                 (
-                    Complex64::new(xr[(i, 0)], xi[(i, 0)]),
-                    Complex64::new(kr[(i, 0)], ki[(i, 0)]),
-                    Complex64::new(mr[(i, 0)], mi[(i, 0)]),
+                    Complex64::new(xr[(i, c)], xi[(i, c)]),
+                    Complex64::new(kr[(i, c)], ki[(i, c)]),
+                    Complex64::new(mr[(i, c)], mi[(i, c)]),
                 )
             }),
             w2,
             k_norm,
             m_norm,
         );
-        let shape = largest_to_one((0..n).map(|i| Complex64::new(re[i], im[i])).collect());
+        let shape = largest_to_one(
+            (0..n)
+                .map(|i| Complex64::new(xr[(i, c)], xi[(i, c)]))
+                .collect(),
+        );
         modes.push(ComplexMode { residual, ..mode });
         shapes.push(shape);
     }
     let backward = modes.iter().map(|m| m.residual).fold(0.0, f64::max);
     tracing::debug!(
-        "dense CEA's windows, size {n}: {} modes, largest relative error {relative:.1e} \
+        "dense CEA's windows, size {n}{}: {} modes, largest relative error {relative:.1e} \
          (SLEPc's), largest backward error {backward:.1e}",
+        strip.map_or(String::new(), |(from, to)| format!(
+            ", Re omega^2 in [{from:.4e}, {to:.4e})"
+        )),
         modes.len()
     );
     Ok(DenseCeaResult { modes, shapes })

@@ -305,6 +305,7 @@ fn dense_windows(rt: &Runtime) -> Result<Vec<f64>, String> {
     };
     let solver = DenseEigensolver::Windows {
         solo: rt.self_comm(),
+        shared: rt.self_comm(),
     };
     let windows = dense_cea_by(solver, k.as_ref(), m.as_ref(), &options).map_err(e)?;
     let every = dense_cea(k.as_ref(), m.as_ref(), &options).map_err(e)?;
@@ -366,7 +367,51 @@ fn dense_windows(rt: &Runtime) -> Result<Vec<f64>, String> {
             return Err(format!("a shape of {} entries, largest {big}", shape.len()));
         }
     }
-    Ok(windows
+    // The band split between the ranks (no rigid body to decide: each rank its share's
+    // windows, every share's modes on every rank): the windows' modes again, to the same
+    // 1e-9 of their modulus (each found by another shift), the same flags, backward errors
+    // to 1e-10, and the same bits on every rank. What is returned is this result, so the 1
+    // and 2 rank runs (one share and two) are held to each other as well.
+    let held = DenseCeaOptions {
+        expected_rigid_modes: Some(0),
+        ..options
+    };
+    let solver = DenseEigensolver::Windows {
+        solo: rt.self_comm(),
+        shared: rt.world(),
+    };
+    let split = dense_cea_by(solver, k.as_ref(), m.as_ref(), &held).map_err(e)?;
+    if split.modes.len() != windows.modes.len() || split.shapes.len() != split.modes.len() {
+        return Err(format!(
+            "split between {} ranks: {} modes, {} shapes; one rank's windows {}",
+            rt.world().size(),
+            split.modes.len(),
+            split.shapes.len(),
+            windows.modes.len()
+        ));
+    }
+    for (s, w) in split.modes.iter().zip(&windows.modes) {
+        if (s.lambda - w.lambda).norm() > 1e-9 * w.lambda.norm()
+            || s.unstable != w.unstable
+            || s.rigid_body
+            || s.residual > 1e-10
+        {
+            return Err(format!("split {s:?} against one rank's {w:?}"));
+        }
+    }
+    let bits: Vec<f64> = split
+        .modes
+        .iter()
+        .flat_map(|m| [m.lambda.re, m.lambda.im, m.residual])
+        .chain(split.shapes.iter().flatten().flat_map(|z| [z.re, z.im]))
+        .collect();
+    let (mut most, mut least) = (bits.clone(), bits.iter().map(|v| -v).collect::<Vec<_>>());
+    rt.world().max_in_place(&mut most);
+    rt.world().max_in_place(&mut least);
+    if most != bits || least.iter().zip(&bits).any(|(l, b)| -l != *b) {
+        return Err("the split's modes differ between the ranks".into());
+    }
+    Ok(split
         .modes
         .iter()
         .flat_map(|m| [m.lambda.re, m.lambda.im])

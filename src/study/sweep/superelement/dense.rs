@@ -1,5 +1,6 @@
-//! The dense static and CEA of the current super-element at one friction value, on rank 0
-//! in faer, and what every rank needs of them (broadcast).
+//! The dense static and CEA of the current super-element at one friction value: the static
+//! on rank 0 (broadcast), the CEA's windows shared between the ranks (each its part of the
+//! band, every part's modes on every rank) or, on a small model, faer's solve on rank 0.
 //!
 //! The static starts where the strategy says: at the super-element's own equilibrium when it
 //! was made or moved to this friction value (eq. 5: no step needed), else from the previous
@@ -16,6 +17,7 @@ use crate::reduce::assembly::{
     Assembly, AssemblyError, DenseCeaOptions, DenseCeaResult, DenseEigensolver, ReducedStatic,
     StaticOptions,
 };
+use crate::reduce::dense_cea::from_root;
 use crate::reduce::dense_path::DenseState;
 use crate::study::report::collective;
 use crate::study::StudyError;
@@ -83,7 +85,9 @@ impl<'rt> SuperElementModel<'rt> {
         }
     }
 
-    /// The dense static and CEA on rank 0, broadcast. Collective.
+    /// The dense static on rank 0, broadcast; the dense CEA about it on every rank (each its
+    /// share of the band's windows, [`DenseEigensolver::Windows`]); rank 0's results on every
+    /// rank. Collective.
     pub(super) fn dense(
         &self,
         comm: Comm<'rt>,
@@ -94,8 +98,9 @@ impl<'rt> SuperElementModel<'rt> {
         let se = &current.se;
         let n = se.header.size;
         let pairs = se.header.boundary.len();
-        let mut payload = Vec::new();
-        let mut root = None;
+        // The static: [1, q_static, the anchors] from rank 0, or [0].
+        let mut reached = Vec::new();
+        let mut root_static = None;
         let local = if comm.rank() == 0 {
             let run = || -> Result<_, AssemblyError> {
                 let assembly = Assembly::new(se, &self.settings.contact)?;
@@ -113,87 +118,79 @@ impl<'rt> SuperElementModel<'rt> {
                 };
                 let t = Instant::now();
                 let statics = self.dense_static(&assembly, mu, anchored)?;
-                let static_seconds = t.elapsed().as_secs_f64();
-                // The CEA's tangent from the history after the static (a kept Coulomb point
-                // that slipped stays slipping, with the full stick stiffness across).
-                let assembly = assembly.with_history(statics.anchors())?;
-                let t = Instant::now();
-                let solver = DenseEigensolver::choose(n, comm.alone());
-                let cea = assembly.cea_by(
-                    solver,
-                    &statics.q,
-                    mu,
-                    &DenseCeaOptions {
-                        max_frequency_hz: self.settings.max_frequency_hz,
-                        unstable_threshold: self.settings.unstable_threshold,
-                        // After a converged static: every body is held, no mode is rigid
-                        // whatever the round-off level (its ties' stiffness) says.
-                        expected_rigid_modes: Some(0),
-                    },
-                )?;
-                Ok((
-                    statics,
-                    cea,
-                    start_residual,
-                    static_seconds,
-                    t.elapsed().as_secs_f64(),
-                ))
+                Ok((statics, start_residual, t.elapsed().as_secs_f64()))
             };
             match run() {
                 Ok(r) => {
-                    // [1, m, each mode's lambda (re, im), q_static, the anchors, then per
-                    // mode its shape's real and imaginary parts].
-                    payload.push(1.0);
-                    payload.push(r.1.shapes.len() as f64);
-                    for mode in &r.1.modes {
-                        payload.extend([mode.lambda.re, mode.lambda.im]);
-                    }
-                    payload.extend_from_slice(&r.0.q);
-                    payload.extend(r.0.anchors().iter().flatten());
-                    for shape in &r.1.shapes {
-                        payload.extend(shape.iter().map(|z| z.re));
-                        payload.extend(shape.iter().map(|z| z.im));
-                    }
-                    root = Some(r);
+                    reached.push(1.0);
+                    reached.extend_from_slice(&r.0.q);
+                    reached.extend(r.0.anchors().iter().flatten());
+                    root_static = Some(r);
                     Ok(())
                 }
                 Err(e) => {
-                    payload.push(0.0);
+                    reached.push(0.0);
                     Err(StudyError::DenseAssembly { mu, source: e })
                 }
             }
         } else {
             Ok(())
         };
-        comm.broadcast_from_root(&mut payload);
+        comm.broadcast_from_root(&mut reached);
         let local = local.and_then(|()| {
-            if payload.first() == Some(&1.0) {
+            if reached.first() == Some(&1.0) {
                 Ok(())
             } else {
                 Err(StudyError::FailedOnRoot("super-element assembly"))
             }
         });
         collective(comm, local)?;
-        let m = payload[1] as usize;
-        let lambdas = (0..m)
-            .map(|j| Complex64::new(payload[2 + 2 * j], payload[3 + 2 * j]))
-            .collect();
-        let first = 2 + 2 * m;
-        let q_static = payload[first..first + n].to_vec();
-        let at = first + n;
-        let anchors = payload[at..at + 3 * pairs]
+        let q_static = reached[1..1 + n].to_vec();
+        let anchors: Vec<[f64; 3]> = reached[1 + n..1 + n + 3 * pairs]
             .chunks(3)
             .map(|a| [a[0], a[1], a[2]])
             .collect();
-        let first_shape = at + 3 * pairs;
-        let shapes = (0..m)
-            .map(|j| {
-                let at = first_shape + 2 * n * j;
-                (0..n)
-                    .map(|i| Complex64::new(payload[at + i], payload[at + n + i]))
-                    .collect()
-            })
-            .collect();
+        // The CEA's tangent from the history after the static (a kept Coulomb point that
+        // slipped stays slipping, with the full stick stiffness across), on every rank from
+        // the same bits.
+        let t = Instant::now();
+        let solver = DenseEigensolver::choose(n, comm);
+        let windows = matches!(solver, DenseEigensolver::Windows { .. });
+        // faer's solve (a small model) is rank 0's alone, as the static: ranks on unlike
+        // CPUs could round it differently, and every rank must decide from the same bits.
+        let cea = (windows || comm.rank() == 0).then(|| {
+            Assembly::new(se, &self.settings.contact)
+                .and_then(|a| a.with_history(anchors.clone()))
+                .and_then(|assembly| {
+                    assembly.cea_by(
+                        solver,
+                        &q_static,
+                        mu,
+                        &DenseCeaOptions {
+                            max_frequency_hz: self.settings.max_frequency_hz,
+                            unstable_threshold: self.settings.unstable_threshold,
+                            // After a converged static: every body is held, no mode is
+                            // rigid whatever the round-off level (its ties' stiffness) says.
+                            expected_rigid_modes: Some(0),
+                        },
+                    )
+                })
+                .map_err(|source| StudyError::DenseAssembly { mu, source })
+        });
+        let cea = if windows {
+            // Every rank took part and has every mode (or the same failure).
+            cea.unwrap_or_else(|| unreachable!("every rank runs the windows"))?
+        } else {
+            let local = cea.transpose();
+            let on_root = collective(comm, local)?;
+            from_root(comm, on_root, n, self.settings.unstable_threshold)
+        };
+        let cea_seconds = t.elapsed().as_secs_f64();
+        let lambdas = cea.modes.iter().map(|m| m.lambda).collect();
+        let shapes = cea.shapes.clone();
+        let root = root_static.map(|(statics, start_residual, static_seconds)| {
+            (statics, cea, start_residual, static_seconds, cea_seconds)
+        });
         Ok(Dense {
             lambdas,
             q_static,
