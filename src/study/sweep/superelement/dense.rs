@@ -155,33 +155,36 @@ impl<'rt> SuperElementModel<'rt> {
         // the same bits.
         let t = Instant::now();
         let solver = DenseEigensolver::choose(n, comm);
-        let windows = matches!(solver, DenseEigensolver::Windows { .. });
-        // faer's solve (a small model) is rank 0's alone, as the static: ranks on unlike
-        // CPUs could round it differently, and every rank must decide from the same bits.
-        let cea = (windows || comm.rank() == 0).then(|| {
-            Assembly::new(se, &self.settings.contact)
+        let options = DenseCeaOptions {
+            max_frequency_hz: self.settings.max_frequency_hz,
+            unstable_threshold: self.settings.unstable_threshold,
+            // After a converged static: every body is held, no mode is rigid whatever the
+            // round-off level (its ties' stiffness) says.
+            expected_rigid_modes: Some(0),
+        };
+        let dense = |source| StudyError::DenseAssembly { mu, source };
+        let cea = if let DenseEigensolver::Windows { .. } = solver {
+            // Every rank takes part in the windows: the assembly is agreed on first, so that
+            // no rank waits inside them for one that failed before.
+            let assembly = Assembly::new(se, &self.settings.contact)
                 .and_then(|a| a.with_history(anchors.clone()))
-                .and_then(|assembly| {
-                    assembly.cea_by(
-                        solver,
-                        &q_static,
-                        mu,
-                        &DenseCeaOptions {
-                            max_frequency_hz: self.settings.max_frequency_hz,
-                            unstable_threshold: self.settings.unstable_threshold,
-                            // After a converged static: every body is held, no mode is
-                            // rigid whatever the round-off level (its ties' stiffness) says.
-                            expected_rigid_modes: Some(0),
-                        },
-                    )
-                })
-                .map_err(|source| StudyError::DenseAssembly { mu, source })
-        });
-        let cea = if windows {
-            // Every rank took part and has every mode (or the same failure).
-            cea.unwrap_or_else(|| unreachable!("every rank runs the windows"))?
+                .map_err(dense);
+            let assembly = collective(comm, assembly)?;
+            let cea = assembly
+                .cea_by(solver, &q_static, mu, &options)
+                .map_err(dense);
+            collective(comm, cea)?
         } else {
-            let local = cea.transpose();
+            // faer's solve (a small model) is rank 0's alone, as the static: ranks on unlike
+            // CPUs could round it differently, and every rank must decide from the same bits.
+            let local = (comm.rank() == 0)
+                .then(|| {
+                    Assembly::new(se, &self.settings.contact)
+                        .and_then(|a| a.with_history(anchors.clone()))
+                        .and_then(|a| a.cea_by(solver, &q_static, mu, &options))
+                        .map_err(dense)
+                })
+                .transpose();
             let on_root = collective(comm, local)?;
             from_root(comm, on_root, n, self.settings.unstable_threshold)
         };
