@@ -107,10 +107,10 @@ impl<'rt> DenseEigensolver<'rt> {
 
 /// Rank `rank`'s share of the band [0, top] in Re omega^2 among `ranks`: equal parts, the
 /// first open below (divergence modes, Re omega^2 < 0, are the first rank's) and the last
-/// open above (the band's top is decided by frequency, as for one rank). Equal parts of
-/// omega^2 put fewer modes in the higher shares of a structure whose modes thicken with
-/// frequency, but each window costs one LU whatever it holds: on small-caliper's
-/// super-element (56 modes, 4 windows on one rank) the lower half takes 2 windows, the upper 1-2.
+/// open above (the band's top is decided by frequency, as for one rank). Each window costs
+/// one LU whatever it holds, so what balances the ranks is the windows' count: on
+/// small-caliper's super-element (56 modes, 4 windows on one rank) the lower half of
+/// omega^2 holds 44 modes and takes 3 windows, the upper 1-2 (the module doc).
 pub fn band_share(rank: usize, ranks: usize, top: f64) -> (f64, f64) {
     let at = |k: usize| top * k as f64 / ranks as f64;
     let from = if rank == 0 {
@@ -172,12 +172,17 @@ pub fn dense_cea_by(
             shapes: Vec::new(),
         },
     };
-    Ok(gathered(
-        shared,
-        mine,
-        stiffness.nrows(),
-        options.unstable_threshold,
-    ))
+    let n = stiffness.nrows();
+    let all = gathered(shared, mine, n, options.unstable_threshold);
+    // A part may hold none; the band as a whole is held to what one rank's windows say of
+    // it (every rank has the same count here, so every rank says it).
+    if all.modes.is_empty() {
+        return Err(AssemblyError::Eigen(format!(
+            "the dense CEA's windows on size {n}: {}",
+            cea::CeaError::EmptyBand(options.max_frequency_hz)
+        )));
+    }
+    Ok(all)
 }
 
 /// Rank 0's modes (`Some` there, `None` elsewhere) on every rank, with the same bits.
