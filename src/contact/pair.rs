@@ -654,6 +654,15 @@ fn project_slave_nodes(
         None => 10.0 * young.clone().map_err(invalid)? / h,
     };
     check_penalty(penalty).map_err(invalid)?;
+    tracing::debug!(
+        "contact pair '{}': penalty {penalty:.6e} Pa/m ({}; master face size h = {h:.4e} m)",
+        settings.name,
+        if settings.penalty.is_some() {
+            "given"
+        } else {
+            "the default 10 E_min / h"
+        }
+    );
     if let (Some(k), Ok(young)) = (settings.penalty, young) {
         let default = 10.0 * young / h;
         if k > MAX_PENALTY_RATIO * default {
