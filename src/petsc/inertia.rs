@@ -30,6 +30,71 @@ pub fn eigenvalues_below<'rt>(
     // preallocation pass DIFFERENT would cost).
     check(unsafe { sys::MatAXPY(shifted.raw, -sigma, b.raw, sys::UNKNOWN_NONZERO_PATTERN) })?;
     shifted.mark_symmetric()?;
+    // A - sigma B is indefinite, so MUMPS pivots 2x2 and delays pivots it cannot take, and
+    // the fronts then outgrow the workspace its analysis estimated (INFOG(1) = -8 or -9):
+    // which pivots are delayed depends on round-off, so one CPU's BLAS fits where another's
+    // does not (CI once failed so on a tiny brake's super-element). MUMPS's remedy is a
+    // larger ICNTL(14), the estimate's relaxation in percent: each retry doubles it.
+    let mut relaxation = None;
+    for _ in 0..=WORKSPACE_RETRIES {
+        match factorise(comm, &shifted, relaxation)? {
+            Attempt::Counted(negative) => {
+                return usize::try_from(negative)
+                    .map_err(|_| PetscError::Invalid(format!("negative inertia count {negative}")))
+            }
+            Attempt::Failed { detail, workspace } => match workspace {
+                // A relaxation the options pin (`-squeal_inertia_mat_mumps_icntl_14`) wins
+                // over ours: retrying would fail the same way.
+                Some(used) if used < MAX_RELAXATION && relaxation.is_none_or(|r| r == used) => {
+                    let next = (2 * used).clamp(2 * DEFAULT_RELAXATION, MAX_RELAXATION);
+                    tracing::info!(
+                        "LDL^T at {sigma:e} outgrew MUMPS's workspace with ICNTL(14) = \
+                         {used}: refactorising with {next}"
+                    );
+                    relaxation = Some(next);
+                }
+                _ => {
+                    return Err(PetscError::NotConverged {
+                        what: format!("LDL^T factorisation for the inertia at {sigma:e}"),
+                        detail,
+                    })
+                }
+            },
+        }
+    }
+    Err(PetscError::NotConverged {
+        what: format!("LDL^T factorisation for the inertia at {sigma:e}"),
+        detail: format!(
+            "MUMPS's workspace too small even with ICNTL(14) = {}",
+            relaxation.unwrap_or(MAX_RELAXATION)
+        ),
+    })
+}
+
+/// How many times a factorisation that outgrew its workspace is retried, and the largest
+/// relaxation asked for (MUMPS allocates, it does not touch, what a front does not use).
+const WORKSPACE_RETRIES: usize = 4;
+const MAX_RELAXATION: sys::PetscInt = 1000;
+/// MUMPS's default ICNTL(14): a retry asks for at least twice it.
+const DEFAULT_RELAXATION: sys::PetscInt = 20;
+
+enum Attempt {
+    Counted(sys::PetscInt),
+    /// Why it failed on some rank, and the ICNTL(14) it had when the failure was MUMPS's
+    /// workspace (INFOG(1) = -8, -9, -11, -12, -14, -15), the failure a larger one cures.
+    Failed {
+        detail: String,
+        workspace: Option<sys::PetscInt>,
+    },
+}
+
+/// One LDL^T of `shifted` and its negative pivots; `relaxation` sets ICNTL(14). Collective:
+/// every rank gets the same outcome.
+fn factorise<'rt>(
+    comm: Comm<'rt>,
+    shifted: &Matrix<'rt>,
+    relaxation: Option<sys::PetscInt>,
+) -> Result<Attempt> {
     let mut ksp = std::ptr::null_mut();
     // SAFETY: out-pointer to a local.
     check(unsafe { sys::KSPCreate(comm.raw, &mut ksp) })?;
@@ -58,17 +123,43 @@ pub fn eigenvalues_below<'rt>(
         let mut factor = std::ptr::null_mut();
         check(sys::PCFactorGetMatrix(pc, &mut factor))?;
         check(sys::MatMumpsSetIcntl(factor, 13, 1))?;
+        // PETSc 3.18 gives the factor matrix no prefix of the solver's, so without this
+        // `-squeal_inertia_mat_mumps_*` would be left unused.
+        check(sys::MatSetOptionsPrefix(
+            factor,
+            c"squeal_inertia_".as_ptr(),
+        ))?;
         check(sys::KSPSetFromOptions(solver.0))?;
+        // The factor may have been replaced by KSPSetFromOptions: ask again. PETSc reads
+        // the options at the factorisation, so an ICNTL(14) they give beats a retry's.
+        check(sys::PCFactorGetMatrix(pc, &mut factor))?;
+        if let Some(percent) = relaxation {
+            check(sys::MatMumpsSetIcntl(factor, 14, percent))?;
+        }
         check(sys::KSPSetUp(solver.0))?;
         let failure = failure_detail(solver.0)?;
-        if !comm.all(failure.is_none()) {
-            return Err(PetscError::NotConverged {
-                what: format!("LDL^T factorisation for the inertia at {sigma:e}"),
+        check(sys::PCFactorGetMatrix(pc, &mut factor))?;
+        let workspace = match failure {
+            Some(_) => {
+                let mut infog1: sys::PetscInt = 0;
+                let mut icntl14: sys::PetscInt = 0;
+                check(sys::MatMumpsGetInfog(factor, 1, &mut infog1))?;
+                check(sys::MatMumpsGetIcntl(factor, 14, &mut icntl14))?;
+                matches!(infog1, -8 | -9 | -11 | -12 | -14 | -15).then_some(icntl14)
+            }
+            None => None,
+        };
+        // INFOG is global, so every failing rank agrees on the cause; a rank whose part
+        // factorised says nothing, and the largest relaxation among the failing ones wins.
+        let failed = !comm.all(failure.is_none());
+        if failed {
+            let mut largest = [workspace.map_or(-1.0, f64::from)];
+            comm.max_in_place(&mut largest);
+            return Ok(Attempt::Failed {
                 detail: failure.unwrap_or_else(|| "failed on another rank".into()),
+                workspace: (largest[0] >= 0.0).then_some(largest[0] as sys::PetscInt),
             });
         }
-        // The factor may have been replaced by KSPSetFromOptions/KSPSetUp: ask again.
-        check(sys::PCFactorGetMatrix(pc, &mut factor))?;
         check(sys::MatGetInertia(
             factor,
             &mut negative,
@@ -76,8 +167,7 @@ pub fn eigenvalues_below<'rt>(
             std::ptr::null_mut(),
         ))?;
     }
-    usize::try_from(negative)
-        .map_err(|_| PetscError::Invalid(format!("negative inertia count {negative}")))
+    Ok(Attempt::Counted(negative))
 }
 
 /// Owns a KSP for the span of one function, so every early return destroys it.
