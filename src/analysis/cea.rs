@@ -381,6 +381,53 @@ type Accepted<'rt> = (
 /// disagreement and far below the gap to any other eigenvalue a band resolves.
 const SAME_EIGENVALUE: f64 = 1e-6;
 
+/// How close to an eigenvalue, relative to the window's radius, a shift may lie: nearer,
+/// the inverted operator amplifies that eigenvalue's direction over the window's farthest
+/// by more than 1e4 and the others' accuracy suffers (see [`undamped`]).
+const ON_TARGET: f64 = 1e-4;
+
+/// How far past its edge a window, or a rank's part of the band, keeps eigenvalues, relative
+/// to the edge. One eigenvalue found by the shifts on both sides of an edge comes out of
+/// each with its own round-off (up to about 4e-7 relative on a super-element's pencil, see
+/// `reduce::dense_cea::WINDOWS_TOLERANCE`), so an eigenvalue within that of the edge could
+/// be kept by both sides or by neither. Both sides keep a band of this width around it and
+/// the later side drops what the earlier one already holds ([`new_across_edge`]); it is
+/// four times the tolerance the two copies are matched with.
+pub const EDGE_OVERLAP: f64 = 4.0 * SAME_EIGENVALUE;
+
+/// Of `later`'s eigenvalues omega^2 (those of the window or part whose strip starts at
+/// `edge`), which are new: not within [`SAME_EIGENVALUE`] of one of `earlier`'s (the window
+/// or part below the edge, which keeps up to [`EDGE_OVERLAP`] past it), each of those
+/// standing for one of `later`'s at most, so that a multiple eigenvalue keeps its
+/// multiplicity. Away from the edge, and where no copy matches, each side keeps its own
+/// side of it. The same values give the same answer on every rank.
+pub fn new_across_edge(earlier: &[Complex64], later: &[Complex64], edge: f64) -> Vec<bool> {
+    let margin = EDGE_OVERLAP * edge.abs();
+    let near = |v: &Complex64| (v.re - edge).abs() < margin;
+    let mut unmatched: Vec<Complex64> = earlier.iter().copied().filter(near).collect();
+    later
+        .iter()
+        .map(|v| {
+            if !near(v) {
+                return v.re >= edge;
+            }
+            let nearest = unmatched
+                .iter()
+                .enumerate()
+                .map(|(i, a)| (i, (a - v).norm()))
+                .filter(|&(_, d)| d <= SAME_EIGENVALUE * v.norm())
+                .min_by(|a, b| a.1.total_cmp(&b.1));
+            match nearest {
+                Some((i, _)) => {
+                    unmatched.swap_remove(i);
+                    false
+                }
+                None => v.re >= edge,
+            }
+        })
+        .collect()
+}
+
 /// The left eigenvectors of the window's unstable pairs among `accepted` (found about
 /// `target` by `eps`; `found` all of the window's converged (index, omega^2), nearest
 /// first), from the window's own factorisation ([`LeftSolver`]): as many pairs of the
@@ -557,6 +604,11 @@ pub fn undamped<'rt>(
     };
     // A strip from above 0 starts its first window's accepted part there, not below.
     let mut lower = if from > 0.0 { from } else { f64::NEG_INFINITY };
+    // The previous window's kept eigenvalues, which its successor's are matched against at
+    // their common edge ([`new_across_edge`]); a strip's first window has none (its part's
+    // edge is matched against the part below it by the caller).
+    let mut previous: Option<Vec<Complex64>> = None;
+    let past = |edge: f64| edge + EDGE_OVERLAP * edge.abs();
     let mut retries = 0;
     loop {
         // SLEPc's default subspace is twice the count; past the base window, count + 16
@@ -592,6 +644,23 @@ pub fn undamped<'rt>(
             .map(|f| (f.1 - target).norm())
             .fold(0.0, f64::max);
         let everything = summary.converged >= size;
+        // A target on an eigenvalue (a part of the band starts at a fixed omega^2, where a
+        // mode may sit) makes K - sigma M singular to round-off without an error: the
+        // inverted operator's one huge eigenvalue swamps the others, whose residuals came
+        // out at 1e-1 on a dense pencil with a double eigenvalue on the target. Moved off by
+        // a hundredth of the window, it is one eigenvalue among the others.
+        let nearest = found
+            .iter()
+            .map(|f| (f.1 - target).norm())
+            .fold(f64::INFINITY, f64::min);
+        if nearest < ON_TARGET * radius && !everything && retries < 3 {
+            tracing::debug!(
+                "CEA target {target:e} lies {nearest:.1e} from an eigenvalue; moving it off"
+            );
+            retries += 1;
+            target += 0.01 * radius;
+            continue;
+        }
         // Where the accepted strip starts: the previous window's edge, or 0 for the first.
         let edge = if lower.is_finite() { lower } else { 0.0 };
         if target - radius > edge - 0.25 * radius && !everything {
@@ -611,11 +680,31 @@ pub fn undamped<'rt>(
         let upper = target + 0.5 * radius;
         let last = upper >= top.min(to) || everything;
         let first_accepted = accepted.len();
-        for &(i, value) in &found {
-            let inside = value.re >= lower && (last || value.re < upper) && value.re < to;
-            if !inside || lambda_of(value).im / (2.0 * PI) > options.max_frequency_hz {
-                continue;
-            }
+        // Each side of an edge keeps [`EDGE_OVERLAP`] past it; what both hold is kept once.
+        let from_here = if lower.is_finite() {
+            lower - EDGE_OVERLAP * lower.abs()
+        } else {
+            f64::NEG_INFINITY
+        };
+        let up_to = if to.is_finite() { past(to) } else { to };
+        let candidates: Vec<(usize, Complex64)> = found
+            .iter()
+            .copied()
+            .filter(|&(_, value)| {
+                value.re >= from_here
+                    && (last || value.re < past(upper))
+                    && value.re < up_to
+                    && lambda_of(value).im / (2.0 * PI) <= options.max_frequency_hz
+            })
+            .collect();
+        let values: Vec<Complex64> = candidates.iter().map(|c| c.1).collect();
+        let new = match &previous {
+            Some(earlier) => new_across_edge(earlier, &values, lower),
+            None => vec![true; values.len()],
+        };
+        let mut kept = Vec::with_capacity(values.len());
+        for (&(i, value), _) in candidates.iter().zip(&new).filter(|(_, &n)| n) {
+            kept.push(value);
             let (_, mut re, mut im) = eps.pair(i, &template)?;
             normalise(&mut re, &mut im, comm)?;
             accepted.push((value, eps.relative_error(i)?, re, im, None));
@@ -652,6 +741,7 @@ pub fn undamped<'rt>(
             return Err(CeaError::Stuck(target));
         }
         lower = upper;
+        previous = Some(kept);
         // Not exactly at the farthest eigenvalue found, which lies at target + radius when
         // it is real.
         target += 0.97 * radius;
@@ -808,6 +898,46 @@ pub fn damped<'rt>(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// An eigenvalue on the edge between two windows (or two ranks' parts), found by each
+    /// with its own round-off on either side: kept once whichever side each copy fell on;
+    /// a double one twice; one only the later side found, on its side, kept; away from the
+    /// edge each side keeps its own.
+    #[test]
+    fn an_eigenvalue_on_an_edge_is_kept_once_whichever_side_its_copies_fall() {
+        let edge = 4.0e9;
+        let at = |relative: f64, im: f64| Complex64::new(edge * (1.0 + relative), im);
+        // Below/above, above/below, both below, both above: never twice, never dropped.
+        for (a, b) in [
+            (-1e-12, 1e-12),
+            (1e-12, -1e-12),
+            (-2e-12, -1e-12),
+            (1e-12, 2e-12),
+        ] {
+            let earlier = [at(-0.3, 0.0), at(a, 1e7)];
+            let later = [at(b, 1e7), at(0.2, 0.0)];
+            assert_eq!(new_across_edge(&earlier, &later, edge), [false, true]);
+        }
+        // A double eigenvalue (a disc's pair of diameters) on the edge: both copies match.
+        let earlier = [at(-1e-13, 0.0), at(1e-13, 0.0)];
+        let later = [at(2e-13, 0.0), at(-2e-13, 0.0)];
+        assert_eq!(new_across_edge(&earlier, &later, edge), [false, false]);
+        // The earlier side holds one of the two, the later both on its side: one is new.
+        let later = [at(2e-13, 0.0), at(3e-13, 0.0)];
+        assert_eq!(new_across_edge(&earlier[..1], &later, edge), [false, true]);
+        // Two eigenvalues 3e-6 apart near the edge are two (beyond SAME_EIGENVALUE): the
+        // later side keeps its one that is on its side and not the earlier side's.
+        let earlier = [at(-1e-6, 0.0)];
+        let later = [at(-1e-6, 0.0), at(2e-6, 0.0)];
+        assert_eq!(new_across_edge(&earlier, &later, edge), [false, true]);
+        // Unmatched copies below the edge belong to the earlier side.
+        assert_eq!(new_across_edge(&[], &[at(-1e-6, 0.0)], edge), [false]);
+        // Outside the overlap: by side alone.
+        assert_eq!(
+            new_across_edge(&[at(-1e-3, 0.0)], &[at(-1e-3, 0.0), at(1e-3, 0.0)], edge),
+            [false, true]
+        );
+    }
 
     #[test]
     fn lambda_of_a_coupled_pair_has_opposite_real_parts_at_one_frequency() {

@@ -110,7 +110,10 @@ impl<'rt> DenseEigensolver<'rt> {
 /// open above (the band's top is decided by frequency, as for one rank). Each window costs
 /// one LU whatever it holds, so what balances the ranks is the windows' count: on
 /// small-caliper's super-element (56 modes, 4 windows on one rank) the lower half of
-/// omega^2 holds 44 modes and takes 3 windows, the upper 1-2 (the module doc).
+/// omega^2 holds 44 modes and takes 3 windows, the upper 1-2 (the module doc). A mode on an
+/// edge between two parts is found by both (each keeps [`cea::EDGE_OVERLAP`] past its
+/// edges) and kept once, the lower rank's (`gathered`); the higher part's first window
+/// does not sit on such a mode (`cea::undamped` moves a target off an eigenvalue).
 pub fn band_share(rank: usize, ranks: usize, top: f64) -> (f64, f64) {
     let at = |k: usize| top * k as f64 / ranks as f64;
     let from = if rank == 0 {
@@ -173,7 +176,9 @@ pub fn dense_cea_by(
         },
     };
     let n = stiffness.nrows();
-    let all = gathered(shared, mine, n, options.unstable_threshold);
+    // Rank r's part starts where rank r - 1's ends; each keeps a little past its edges.
+    let edges: Vec<f64> = (1..ranks).map(|r| band_share(r, ranks, top).0).collect();
+    let all = gathered(shared, mine, n, options.unstable_threshold, &edges);
     // A part may hold none; the band as a whole is held to what one rank's windows say of
     // it (every rank has the same count here, so every rank says it).
     if all.modes.is_empty() {
@@ -197,17 +202,20 @@ pub fn from_root(
         modes: Vec::new(),
         shapes: Vec::new(),
     });
-    gathered(shared, mine, n, unstable_threshold)
+    gathered(shared, mine, n, unstable_threshold, &[])
 }
 
 /// Every rank's share of the modes on every rank, sorted by frequency. Each rank writes its
 /// own slots of one buffer and the buffers are summed: a slot holds one rank's value and
-/// zeros, so every rank gets the same bits. Collective.
+/// zeros, so every rank gets the same bits. `edges[r - 1]` is where rank r's part of the
+/// band starts (none when one rank found them all): a mode both sides of an edge found is
+/// kept once, the lower rank's ([`cea::new_across_edge`]). Collective.
 fn gathered(
     shared: Comm<'_>,
     mine: DenseCeaResult,
     n: usize,
     unstable_threshold: f64,
+    edges: &[f64],
 ) -> DenseCeaResult {
     let mut counts = vec![0.0; shared.size()];
     counts[shared.rank()] = mine.modes.len() as f64;
@@ -232,9 +240,31 @@ fn gathered(
         }
     }
     shared.sum_in_place(&mut buffer);
+    // The slots are in rank order: rank r's are those from the sum of the counts before it.
+    let mut keep = vec![true; total];
+    let omega2 = |slot: usize| {
+        let lambda = Complex64::new(buffer[slot * record], buffer[slot * record + 1]);
+        -(lambda * lambda)
+    };
+    let mut start = 0;
+    for (r, window) in counts.windows(2).enumerate() {
+        let (below, above) = (
+            start..start + window[0],
+            start + window[0]..start + window[0] + window[1],
+        );
+        start += window[0];
+        let Some(&edge) = edges.get(r) else { continue };
+        let earlier: Vec<Complex64> = below.clone().map(omega2).collect();
+        let later: Vec<Complex64> = above.clone().map(omega2).collect();
+        for (slot, new) in above.zip(cea::new_across_edge(&earlier, &later, edge)) {
+            keep[slot] &= new;
+        }
+    }
     let mut found: Vec<(ComplexMode, Vec<Complex64>)> = buffer
         .chunks(record)
-        .map(|slot| {
+        .zip(&keep)
+        .filter(|(_, &k)| k)
+        .map(|(slot, _)| {
             let mode = mode_from_lambda(
                 Complex64::new(slot[0], slot[1]),
                 slot[2],

@@ -13,6 +13,15 @@ use std::f64::consts::PI;
 /// orthogonal and L lower triangular, both full (a fixed pseudo-random seed): the
 /// eigenvalues omega^2 of (K, M) are A's, returned beside.
 pub fn super_element_pencil(n: usize) -> (Mat<f64>, Mat<f64>, Vec<Complex64>) {
+    super_element_pencil_with(n, &[])
+}
+
+/// [`super_element_pencil`] with block b's k_b set to the given omega^2 for each (b, omega^2)
+/// of `placed`: eigenvalues put where a test wants them (on an edge between windows).
+pub fn super_element_pencil_with(
+    n: usize,
+    placed: &[(usize, f64)],
+) -> (Mat<f64>, Mat<f64>, Vec<Complex64>) {
     let mut seed = 0x5eed_u64;
     let mut random = move || {
         seed = seed
@@ -21,7 +30,12 @@ pub fn super_element_pencil(n: usize) -> (Mat<f64>, Mat<f64>, Vec<Complex64>) {
         (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
     };
     let blocks = n / 2;
-    let kk = |b: usize| (2.0 * PI * (300.0 + 300_000.0 * b as f64 / blocks as f64)).powi(2);
+    let kk = |b: usize| {
+        placed.iter().find(|p| p.0 == b).map_or_else(
+            || (2.0 * PI * (300.0 + 300_000.0 * b as f64 / blocks as f64)).powi(2),
+            |p| p.1,
+        )
+    };
     let cc = |b: usize| if b % 3 == 2 { 0.0 } else { 0.004 * kk(b) };
     let mut a = Mat::<f64>::zeros(n, n);
     let mut exact = Vec::with_capacity(n);

@@ -41,6 +41,12 @@ pub const CHECKS: &[Check] = &[
         agreement: 1e-9,
     },
     Check {
+        name: "an_eigenvalue_on_the_edge_between_two_ranks_parts_is_found_once",
+        run: eigenvalues_on_the_edges,
+        ranks: &[1, 2, 3],
+        agreement: 1e-9,
+    },
+    Check {
         name: "damping_moves_the_threshold_as_the_closed_form_says",
         run: damped_threshold,
         ranks: &[1, 2],
@@ -432,6 +438,79 @@ fn dense_windows(rt: &Runtime) -> Result<Vec<f64>, String> {
         return Err("the split's modes differ between the ranks".into());
     }
     Ok(split
+        .modes
+        .iter()
+        .flat_map(|m| [m.lambda.re, m.lambda.im])
+        .collect())
+}
+
+/// The dense pencil with eigenvalues put exactly on the edges between the ranks' parts of the
+/// band (omega^2 = top / 2 for 2 ranks, top / 3 and 2 top / 3 for 3): on each edge a double
+/// real eigenvalue and a coupled pair whose real part is the edge. Each rank finds what lies
+/// on its edges by another shift, with its own round-off, so each copy may fall on either
+/// side: every eigenvalue of the band must still be found exactly as often as the closed form
+/// has it, on any number of ranks (one rank steps its own windows over the same values).
+fn eigenvalues_on_the_edges(rt: &Runtime) -> Result<Vec<f64>, String> {
+    use squeal::reduce::dense_cea::{dense_cea_by, DenseCeaOptions, DenseEigensolver};
+    let f_max = 10_000.0;
+    let top = (2.0 * PI * f_max).powi(2);
+    // Blocks 100.. lie far above the band; b % 3 == 2 is a double real one, else a pair.
+    let placed = [
+        (100, top / 2.0),
+        (101, top / 2.0),
+        (102, top / 3.0),
+        (104, top / 3.0),
+        (103, 2.0 * top / 3.0),
+        (107, 2.0 * top / 3.0),
+    ];
+    let (k, m, omega2) = common::pencils::super_element_pencil_with(500, &placed);
+    let exact: Vec<Complex64> = omega2
+        .iter()
+        .map(|&w2| cea::lambda_of(w2))
+        .filter(|l| l.im / (2.0 * PI) <= f_max)
+        .collect();
+    let options = DenseCeaOptions {
+        max_frequency_hz: f_max,
+        expected_rigid_modes: Some(0),
+        ..Default::default()
+    };
+    let solver = DenseEigensolver::Windows {
+        solo: rt.self_comm(),
+        shared: rt.world(),
+    };
+    let found = dense_cea_by(solver, k.as_ref(), m.as_ref(), &options).map_err(e)?;
+    let near = |a: Complex64, b: Complex64| (a - b).norm() < 1e-9 * b.norm();
+    for x in &exact {
+        let want = exact.iter().filter(|y| near(**y, *x)).count();
+        let got = found.modes.iter().filter(|m| near(m.lambda, *x)).count();
+        if want != got {
+            return Err(format!(
+                "{} ranks: lambda {x} (omega^2 {:.6e}) found {got} times, expected {want}",
+                rt.world().size(),
+                -(x * x).re
+            ));
+        }
+    }
+    if found.modes.len() != exact.len() || found.shapes.len() != exact.len() {
+        return Err(format!(
+            "{} ranks: {} modes and {} shapes, {} in the band",
+            rt.world().size(),
+            found.modes.len(),
+            found.shapes.len(),
+            exact.len()
+        ));
+    }
+    if let Some(bad) = found.modes.iter().find(|m| m.residual > 1e-10) {
+        return Err(format!("backward error {:e} at {bad:?}", bad.residual));
+    }
+    if rt.world().rank() == 0 {
+        eprintln!(
+            "{} ranks: {} modes, the 12 on the parts' edges each as often as the closed form",
+            rt.world().size(),
+            found.modes.len()
+        );
+    }
+    Ok(found
         .modes
         .iter()
         .flat_map(|m| [m.lambda.re, m.lambda.im])
