@@ -15,8 +15,12 @@
 //! between the ranks ([`band_share`]): on 2 ranks, small-caliper's super-element of size
 //! 1,801 (every pair reduced, single), nine values, interleaved runs: the dense CEA's
 //! median 1.2 -> 0.8 s a point, the point's 2.2 -> 1.8 s. Its lower half holds 44 of the 56
-//! modes (3 windows against 1-2): parts of equal mode counts (from the previous point's
-//! modes) would balance them better.
+//! modes (3 windows against 1-2), but parts of equal mode counts (from the previous point's
+//! modes) were slower (0.8-1.1 -> 1.0-1.1 s a point, tried 2026-12-02): a window's reach in
+//! omega^2 grows with its target, so the upper part's fewer modes took more windows. Wider
+//! windows did better ([`window_pairs`]): 60 pairs on that super-element, two interleaved
+//! pairs of nine-value sweeps, the dense CEA's median 0.94 / 0.81 -> 0.56 / 0.55 s a point,
+//! the point's 2.26 / 2.19 -> 1.98 / 1.95 s, the sweeps 55.6 / 52.7 -> 50.6 / 49.4 s.
 
 use super::assembly::AssemblyError;
 use crate::analysis::cea::{
@@ -75,6 +79,29 @@ pub const WINDOWS_FROM: usize = 400;
 /// point's worst was 4e-12 to 2.6e-11 (backward errors 2e-15 to 2e-14), for 1.0-1.3 s
 /// instead of 0.8 s a point.
 pub const WINDOWS_TOLERANCE: f64 = 1e-12;
+
+/// The pairs a dense window asks for on size `n`: [`WIDE_WINDOW`] from [`WIDE_WINDOWS_FROM`]
+/// on, the sparse CEA's 30 below. A window costs one LU (2/3 n^3) and a Krylov-Schur solve
+/// of n^2 a step, so the larger the pencil, the more pairs pay for one factorisation.
+pub fn window_pairs(n: usize) -> usize {
+    if n >= WIDE_WINDOWS_FROM {
+        WIDE_WINDOW
+    } else {
+        CeaOptions::default().modes_per_target
+    }
+}
+
+/// See [`window_pairs`]. small-caliper's single super-element (size 1,801, every pair
+/// reduced, 52 per pad, nine values, 2 ranks): the dense CEA's median 0.86 s a point with 30
+/// pairs (22 windows on rank 0 over the sweep), 0.60 s with 60 (9: one a point), 0.9 s with
+/// 90; the same 503 eigenvalues to 3.3e-11 in frequency, the same flags, backward errors
+/// 2e-15 at worst against 2e-14. `examples/dense_cea_bench.rs` (one rank, the spectrum of
+/// `tests/common/pencils.rs`, two runs each, interleaved): at size 400, 0.055 s against 0.027
+/// with 30; at 800 0.121 / 0.145, 1,200 0.27 / 0.36, 1,800 1.16 / 1.55.
+pub const WIDE_WINDOW: usize = 60;
+
+/// The size from which the dense windows ask for [`WIDE_WINDOW`] pairs (see there).
+pub const WIDE_WINDOWS_FROM: usize = 800;
 
 /// How the dense CEA finds its eigenvalues.
 #[derive(Clone, Copy)]
@@ -308,6 +335,7 @@ fn windows(
                 factorization: Factorization::Lu,
             },
             strip,
+            modes_per_target: window_pairs(n),
             ..Default::default()
         },
     )
