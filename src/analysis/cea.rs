@@ -648,12 +648,14 @@ pub fn undamped<'rt>(
         // mode may sit) makes K - sigma M singular to round-off without an error: the
         // inverted operator's one huge eigenvalue swamps the others, whose residuals came
         // out at 1e-1 on a dense pencil with a double eigenvalue on the target. Moved off by
-        // a hundredth of the window, it is one eigenvalue among the others.
+        // a hundredth of the window, it is one eigenvalue among the others. Not at 0, the
+        // band's first target: what lies on it there are a free model's rigid-body modes,
+        // which the window finds as it always has and the rigid flags are made for.
         let nearest = found
             .iter()
             .map(|f| (f.1 - target).norm())
             .fold(f64::INFINITY, f64::min);
-        if nearest < ON_TARGET * radius && !everything && retries < 3 {
+        if target != 0.0 && nearest < ON_TARGET * radius && !everything && retries < 3 {
             tracing::debug!(
                 "CEA target {target:e} lies {nearest:.1e} from an eigenvalue; moving it off"
             );

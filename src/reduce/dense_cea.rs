@@ -281,7 +281,7 @@ fn gathered(
         );
         start += window[0];
         let Some(&edge) = edges.get(r) else { continue };
-        let earlier: Vec<Complex64> = below.clone().map(omega2).collect();
+        let earlier: Vec<Complex64> = below.map(omega2).collect();
         let later: Vec<Complex64> = above.clone().map(omega2).collect();
         for (slot, new) in above.zip(cea::new_across_edge(&earlier, &later, edge)) {
             keep[slot] &= new;
