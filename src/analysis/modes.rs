@@ -114,12 +114,13 @@ pub fn real_modes<'rt>(
     // not accurate enough on a free-free model: the rigid-body modes, ~1e8 times closer to
     // a shift near zero than the elastic ones, swamp their convergence; seen as 1e-5
     // relative errors that differed between rank counts.)
+    let purify = !positive_diagonal(comm, m)?;
     // A model with no free body (the restraint check says so) has no rigid-body cluster to
     // swamp a shift near zero: its N lowest modes come from one run, proved complete by one
     // count, instead of the estimate and the band below.
     if let ModeBand::Lowest { count } = options.band {
         if count > 0 && options.expected_rigid_modes == Some(0) && mumps(options) {
-            if let Some(band) = lowest_of_a_held_model(comm, k, m, count, options)? {
+            if let Some(band) = lowest_of_a_held_model(comm, k, m, count, options, purify)? {
                 return finish(comm, k, m, band, Some(count), options);
             }
         }
@@ -160,11 +161,24 @@ pub fn real_modes<'rt>(
     // A lower end slightly below zero keeps K - sigma M definite when the model is
     // free-free (K singular), while lying far below the first elastic eigenvalue.
     let low = -1e-4 * high;
-    let band = match single_shift(comm, k, m, low, high, options)? {
+    let band = match single_shift(comm, k, m, low, high, options, purify)? {
         Some(band) => band,
-        None => slicing(comm, k, m, low, high, options)?,
+        None => slicing(comm, k, m, low, high, options, purify)?,
     };
     finish(comm, k, m, band, requested, options)
+}
+
+/// Whether every diagonal entry of M is positive (collective). For a mass matrix assembled
+/// from elements (each one's mass positive definite on its nodes) and point masses, and for
+/// C^T M C of one, that is M positive definite: x^T M x = 0 needs x = 0 on every node of
+/// an element. A massless DOF (a coupling's reference node, a tilt node) shows as a zero.
+/// On a positive definite M the shift-and-invert vectors have no null-space part for
+/// SLEPc's purification to remove, and skipping it saves a triangular solve a pair: on
+/// small-caliper's fixed-interface modes (78 pairs) 409 solves -> 318, 13.3 -> 10.6 s.
+fn positive_diagonal<'rt>(comm: Comm<'rt>, m: &Matrix<'rt>) -> Result<bool, ModesError> {
+    let diagonal = m.diagonal()?;
+    let local = diagonal.read()?.iter().all(|&d| d > 0.0);
+    Ok(comm.all(local))
 }
 
 /// The modes of a band, sorted, cut to the `requested` lowest, rigid-body modes flagged.
@@ -252,6 +266,7 @@ fn single_shift<'rt>(
     low: f64,
     high: f64,
     options: &ModesOptions,
+    purify: bool,
 ) -> Result<Option<Band<'rt>>, ModesError> {
     if !mumps(options) {
         return Ok(None);
@@ -265,7 +280,7 @@ fn single_shift<'rt>(
             method: BandMethod::SingleShift,
         }));
     }
-    let mut eps = near(comm, k, m, low, count, options)?;
+    let mut eps = near(comm, k, m, low, count, options, purify)?;
     let mut found: Vec<(f64, f64, Vector<'rt>)> = Vec::with_capacity(count);
     let (mut converged, mut iterations) = (0, 0);
     for round in 1..=MAX_ROUNDS {
@@ -318,6 +333,7 @@ fn near<'rt>(
     target: f64,
     count: usize,
     options: &ModesOptions,
+    purify: bool,
 ) -> Result<EigenSolver<'rt>, ModesError> {
     let eps_options = EigenOptions {
         problem: EigenProblem::HermitianGeneralized,
@@ -327,6 +343,7 @@ fn near<'rt>(
             package: DirectPackage::Mumps,
             factorization: Factorization::Cholesky,
         },
+        purify,
         ..Default::default()
     };
     Ok(EigenSolver::new(comm, k, Some(m), &eps_options)?)
@@ -365,9 +382,10 @@ fn lowest_of_a_held_model<'rt>(
     m: &Matrix<'rt>,
     count: usize,
     options: &ModesOptions,
+    purify: bool,
 ) -> Result<Option<Band<'rt>>, ModesError> {
     // A shift of -(1 Hz)^2: K - sigma M is definite, and far below the first mode.
-    let mut eps = near(comm, k, m, -(2.0 * PI).powi(2), count, options)?;
+    let mut eps = near(comm, k, m, -(2.0 * PI).powi(2), count, options, purify)?;
     let summary = eps.solve()?;
     let (mut converged, mut iterations) = (summary.converged, summary.iterations);
     let all: Vec<usize> = (0..summary.converged).collect();
@@ -454,12 +472,14 @@ fn slicing<'rt>(
     low: f64,
     high: f64,
     options: &ModesOptions,
+    purify: bool,
 ) -> Result<Band<'rt>, ModesError> {
     let eps_options = EigenOptions {
         problem: EigenProblem::HermitianGeneralized,
         spectrum: Spectrum::Interval { low, high },
         tolerance: options.tolerance,
         linear: options.linear.clone(),
+        purify,
         ..Default::default()
     };
     let mut eps = EigenSolver::new(comm, k, Some(m), &eps_options)?;

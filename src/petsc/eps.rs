@@ -47,6 +47,12 @@ pub struct EigenOptions {
     /// Krylov subspace size (SLEPc's ncv) for `NearTarget` and `Largest`; SLEPc's default
     /// (about twice the count) when `None`.
     pub subspace: Option<usize>,
+    /// SLEPc's eigenvector purification after a generalised Hermitian shift-and-invert solve
+    /// (one more operator application, a triangular solve, per converged pair): it removes
+    /// the components in B's null space that a singular B lets into the vectors. Useless
+    /// where B is positive definite; SLEPc's default (on) otherwise. A user's
+    /// `-eps_purify` still wins.
+    pub purify: bool,
 }
 
 impl Default for EigenOptions {
@@ -61,6 +67,7 @@ impl Default for EigenOptions {
             max_iterations: 1000,
             linear: LinearMethod::default(),
             subspace: None,
+            purify: true,
         }
     }
 }
@@ -196,6 +203,9 @@ impl<'rt> EigenSolver<'rt> {
                     ))?;
                     check(sys::EPSSetWhichEigenpairs(raw, sys::EPS_LARGEST_MAGNITUDE))?;
                 }
+            }
+            if !options.purify {
+                check(sys::EPSSetPurify(raw, sys::PETSC_FALSE))?;
             }
             check(sys::EPSSetFromOptions(raw))?;
         }
