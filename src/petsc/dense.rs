@@ -139,6 +139,38 @@ impl<'rt> DenseMatrix<'rt> {
         self.assemble()
     }
 
+    /// `f` on this rank's rows written in place, as a `local_rows x cols` faer view (no copy),
+    /// then the matrix assembled (collective).
+    pub(super) fn with_local_mut<R>(
+        &mut self,
+        f: impl FnOnce(faer::MatMut<'_, f64>) -> R,
+    ) -> Result<R> {
+        let (rows, cols) = (self.local_rows()?, self.size()?.1);
+        let lda = self.lda()?;
+        let mut ptr = std::ptr::null_mut();
+        // SAFETY: MatDenseGetArray / MatDenseRestoreArray pair; PETSc holds rows x cols
+        // entries at stride lda >= rows from `ptr`, writable until restored.
+        let result = unsafe {
+            check(sys::MatDenseGetArray(self.raw, &mut ptr))?;
+            let view = if rows == 0 || cols == 0 {
+                faer::MatMut::from_column_major_slice_mut(&mut [], rows, cols)
+            } else {
+                let len = (cols - 1) * lda + rows;
+                faer::MatMut::from_column_major_slice_with_stride_mut(
+                    std::slice::from_raw_parts_mut(ptr, len),
+                    rows,
+                    cols,
+                    lda,
+                )
+            };
+            let result = f(view);
+            check(sys::MatDenseRestoreArray(self.raw, &mut ptr))?;
+            result
+        };
+        self.assemble()?;
+        Ok(result)
+    }
+
     fn assemble(&mut self) -> Result<()> {
         // SAFETY: live matrix.
         unsafe {

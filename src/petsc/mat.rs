@@ -487,25 +487,31 @@ impl<'rt> Matrix<'rt> {
         // Wide enough for matrix-product speed, narrow enough that the skipped upper blocks
         // are most of the upper triangle.
         const BLOCK: usize = 128;
-        let at = self.mult_dense(t)?;
         let n = t.size()?.1;
         let mut lower = faer::Mat::<f64>::zeros(n, n);
-        t.with_local(|tl| {
-            at.with_local(|al| {
-                for b0 in (0..n).step_by(BLOCK) {
-                    let width = BLOCK.min(n - b0);
-                    faer::linalg::matmul::matmul(
-                        lower.as_mut().submatrix_mut(b0, b0, n - b0, width),
-                        faer::Accum::Replace,
-                        tl.subcols(b0, n - b0).transpose(),
-                        al.subcols(b0, width),
-                        1.0,
-                        faer::Par::Seq,
-                    );
-                }
-            })
-        })??;
-        drop(at);
+        let mut block_product =
+            |b0: usize, al: faer::MatRef<'_, f64>, tl: faer::MatRef<'_, f64>| {
+                faer::linalg::matmul::matmul(
+                    lower.as_mut().submatrix_mut(b0, b0, n - b0, al.ncols()),
+                    faer::Accum::Replace,
+                    tl.subcols(b0, n - b0).transpose(),
+                    al,
+                    1.0,
+                    faer::Par::Seq,
+                );
+            };
+        // A T a block of columns at a time, each block's products taken at once: the whole
+        // of A T (as large as T) is never held.
+        if !self.product_blocks(t, BLOCK, &mut block_product)? {
+            let at = self.mult_dense(t)?;
+            t.with_local(|tl| {
+                at.with_local(|al| {
+                    for b0 in (0..n).step_by(BLOCK) {
+                        block_product(b0, al.subcols(b0, BLOCK.min(n - b0)), tl);
+                    }
+                })
+            })??;
+        }
         let mut values: std::vec::Vec<f64> = (0..n)
             .flat_map(|j| (0..n).map(move |i| (i, j)))
             .map(|(i, j)| if i >= j { lower[(i, j)] } else { lower[(j, i)] })

@@ -16,6 +16,7 @@ mod mat;
 mod pep;
 mod runtime;
 mod snes;
+mod sparse_dense;
 pub mod sys;
 mod vec;
 

@@ -474,7 +474,7 @@ fn build<'rt>(
             u_all[interior[p]] - psi_u
         }
     })?;
-    let m_fit = m_ii.mult_dense(&fit)?;
+    let m_fit = m_ii.mult_tall(&fit)?;
     let gram = fit.transpose_mult(&m_fit)?;
     let n_c = n_m + 1;
     let g = Mat::<f64>::from_fn(n_c, n_c, |i, j| gram[(i, j)]);
@@ -599,9 +599,9 @@ fn project_stiffness<'rt>(
     let all = IndexSet::new(comm, &owned)?;
     let k_b = k_t.submatrix(b_set, &all)?;
     drop(all);
-    let boundary_rows = k_b.mult_dense(t)?.to_faer()?;
+    let boundary_rows = k_b.mult_tall(t)?.to_faer()?;
     drop(k_b);
-    let kt = k_t.mult_dense(t_modal)?;
+    let kt = k_t.mult_tall(t_modal)?;
     let mut local = Mat::<f64>::zeros(size, size - n_b);
     t.with_local(|tl| {
         kt.with_local(|kl| {

@@ -1287,6 +1287,31 @@ fn projection_t_k_t(rt: &Runtime) -> Result<Vec<f64>, String> {
     )?;
     check_symmetric("T^T M T", &half)?;
     out.extend(flatten(&half));
+    // The blocked sparse-times-dense product (32 columns a pass: 273 is 8 blocks and 17)
+    // against PETSc's: each entry one sparse row times one column, summed in another order
+    // by each, so within 2 gamma_n (|A| |T|)_ij of each other (see check_projection).
+    let ours = el.mass.mult_tall(&t).map_err(e)?.to_faer().map_err(e)?;
+    let petsc = el.mass.mult_dense(&t).map_err(e)?.to_faer().map_err(e)?;
+    let gamma = {
+        let k = 2.0 * el.n as f64 * f64::EPSILON;
+        k / (1.0 - k)
+    };
+    for i in 0..el.n {
+        for j in 0..wide {
+            let magnitude: f64 = (0..el.n)
+                .map(|k| el.mass_dense[(i, k)].abs() * t_all[(k, j)].abs())
+                .sum();
+            let gap = (ours[(i, j)] - petsc[(i, j)]).abs();
+            if gap > 2.0 * gamma * magnitude {
+                return Err(format!(
+                    "M T [{i},{j}]: {} blocked against {} from PETSc",
+                    ours[(i, j)],
+                    petsc[(i, j)]
+                ));
+            }
+        }
+    }
+    out.extend(flatten(&ours));
     Ok(out)
 }
 
