@@ -51,27 +51,16 @@ impl Csr {
                 "the sparse matrix gave no compressed rows".into(),
             ));
         }
-        let mut values = std::ptr::null();
-        if let Err(e) = check(sys::MatSeqAIJGetArrayRead(mat, &mut values)) {
-            sys::MatRestoreRowIJ(
-                mat,
-                0,
-                sys::PETSC_FALSE,
-                sys::PETSC_FALSE,
-                &mut n,
-                &mut ia,
-                &mut ja,
-                &mut done,
-            );
-            return Err(e);
-        }
-        Ok(Csr {
+        // From here Drop restores what was taken, the values only once they are.
+        let mut csr = Csr {
             mat,
             rows: n as usize,
             ia,
             ja,
-            values,
-        })
+            values: std::ptr::null(),
+        };
+        check(sys::MatSeqAIJGetArrayRead(mat, &mut csr.values))?;
+        Ok(csr)
     }
 
     /// Row i's column indices and values.
@@ -95,7 +84,9 @@ impl Drop for Csr {
         let mut done = sys::PETSC_FALSE;
         // SAFETY: the pairs of the calls in `new`.
         unsafe {
-            sys::MatSeqAIJRestoreArrayRead(self.mat, &mut self.values);
+            if !self.values.is_null() {
+                sys::MatSeqAIJRestoreArrayRead(self.mat, &mut self.values);
+            }
             sys::MatRestoreRowIJ(
                 self.mat,
                 0,
