@@ -101,6 +101,17 @@ impl Drop for Csr {
     }
 }
 
+/// What [`Matrix::product_blocks`] reads of this rank's part of a sparse matrix.
+struct Blocks {
+    diagonal: Csr,
+    off: Option<Csr>,
+    /// The global rows of T the off-rank block's columns stand for.
+    ghosts: Vec<usize>,
+    rows: usize,
+    /// The blocks' rows are self's local rows and its local columns T's local rows.
+    fits: bool,
+}
+
 impl<'rt> Matrix<'rt> {
     /// self T for a dense T laid out by rows as self's columns, as [`Matrix::mult_dense`]
     /// gives it, by column blocks (see the module doc): for T of many columns. Falls back on
@@ -136,58 +147,33 @@ impl<'rt> Matrix<'rt> {
         mut f: impl FnMut(usize, faer::MatRef<'_, f64>, faer::MatRef<'_, f64>),
     ) -> Result<bool> {
         let width = width.max(1);
-        let kind = self.type_name()?;
-        let (diagonal, off, ghosts): (sys::Mat, sys::Mat, Vec<usize>) = match kind.as_str() {
-            "seqaij" => (self.raw, std::ptr::null_mut(), Vec::new()),
-            "mpiaij" => {
-                let (mut ad, mut ao, mut colmap) =
-                    (std::ptr::null_mut(), std::ptr::null_mut(), std::ptr::null());
-                // SAFETY: a live MPIAIJ matrix; the blocks and the column map are borrowed
-                // from it (not to be destroyed), alive while self is.
-                check(unsafe { sys::MatMPIAIJGetSeqAIJ(self.raw, &mut ad, &mut ao, &mut colmap) })?;
-                let (mut rows, mut cols) = (0, 0);
-                // SAFETY: a live matrix; out-pointers to locals.
-                check(unsafe { sys::MatGetSize(ao, &mut rows, &mut cols) })?;
-                // SAFETY: PETSc's map of the off-rank block's cols columns to global ones.
-                let map = unsafe { std::slice::from_raw_parts(colmap, cols as usize) };
-                (ad, ao, map.iter().map(|&g| g as usize).collect())
-            }
-            // Decided from the type, the same on every rank.
-            _ => return Ok(false),
-        };
         let cols = t.size()?.1;
-        let (lo, hi) = self.ownership_range()?;
-        let rows = hi - lo;
-        let mut local_columns = 0;
-        // SAFETY: a live matrix; out-pointers to locals.
-        check(unsafe { sys::MatGetLocalSize(self.raw, &mut 0, &mut local_columns) })?;
-        // SAFETY: live assembled AIJ blocks of self, alive while self is.
-        let diagonal = unsafe { Csr::new(diagonal) };
-        let off = if off.is_null() {
-            Ok(None)
-        } else {
-            // SAFETY: as above.
-            unsafe { Csr::new(off) }.map(Some)
-        };
-        // Every rank decides together before the collective calls below, so that a rank's
-        // failure is every rank's.
-        let fits = match (&diagonal, &off) {
-            (Ok(d), Ok(o)) => {
-                d.rows == rows
-                    && o.as_ref().is_none_or(|o| o.rows == rows)
-                    && local_columns as usize == t.local_rows()?
+        // Everything this rank reads of its own first, then one decision of every rank
+        // together before the collective calls below, so that no rank leaves while another
+        // waits in them.
+        let local = self.local_blocks(t);
+        if !t.comm().all(matches!(&local, Ok(Some(b)) if b.fits)) {
+            // Not AIJ on every rank (the type is the same on all): PETSc's product instead.
+            if t.comm().all(matches!(&local, Ok(None))) {
+                return Ok(false);
             }
-            _ => false,
-        };
-        if !t.comm().all(fits) {
-            diagonal?;
-            off?;
+            local?;
             return Err(PetscError::Invalid(
-                "a sparse matrix times a dense one whose rows are not laid out as its columns"
+                "a sparse matrix times a dense one whose rows are not laid out as its columns \
+                 (or another rank could not read its blocks)"
                     .into(),
             ));
         }
-        let (diagonal, off) = (diagonal?, off?);
+        let Some(Blocks {
+            diagonal,
+            off,
+            ghosts,
+            rows,
+            ..
+        }) = local?
+        else {
+            unreachable!("every rank has its blocks")
+        };
         // The rows of T this rank's off-rank block reads, from their owners (collective:
         // every rank asks, for none or some).
         let alone = t.comm().alone();
@@ -251,6 +237,54 @@ impl<'rt> Matrix<'rt> {
             })
         })??;
         Ok(true)
+    }
+
+    /// This rank's CSR blocks of self (diagonal, off-rank) and the global rows of T the
+    /// off-rank block reads; `None` when self is not AIJ. Local: no collective call.
+    fn local_blocks(&self, t: &DenseMatrix<'rt>) -> Result<Option<Blocks>> {
+        let (diagonal, off, ghosts): (sys::Mat, sys::Mat, Vec<usize>) = match self
+            .type_name()?
+            .as_str()
+        {
+            "seqaij" => (self.raw, std::ptr::null_mut(), Vec::new()),
+            "mpiaij" => {
+                let (mut ad, mut ao, mut colmap) =
+                    (std::ptr::null_mut(), std::ptr::null_mut(), std::ptr::null());
+                // SAFETY: a live MPIAIJ matrix; the blocks and the column map are
+                // borrowed from it (not to be destroyed), alive while self is.
+                check(unsafe { sys::MatMPIAIJGetSeqAIJ(self.raw, &mut ad, &mut ao, &mut colmap) })?;
+                let (mut rows, mut cols) = (0, 0);
+                // SAFETY: a live matrix; out-pointers to locals.
+                check(unsafe { sys::MatGetSize(ao, &mut rows, &mut cols) })?;
+                // SAFETY: PETSc's map of the off-rank block's cols columns to global ones.
+                let map = unsafe { std::slice::from_raw_parts(colmap, cols as usize) };
+                (ad, ao, map.iter().map(|&g| g as usize).collect())
+            }
+            _ => return Ok(None),
+        };
+        let (lo, hi) = self.ownership_range()?;
+        let rows = hi - lo;
+        let mut local_columns = 0;
+        // SAFETY: a live matrix; out-pointers to locals.
+        check(unsafe { sys::MatGetLocalSize(self.raw, &mut 0, &mut local_columns) })?;
+        // SAFETY: live assembled AIJ blocks of self, alive while self is.
+        let diagonal = unsafe { Csr::new(diagonal)? };
+        let off = if off.is_null() {
+            None
+        } else {
+            // SAFETY: as above.
+            Some(unsafe { Csr::new(off)? })
+        };
+        let fits = diagonal.rows == rows
+            && off.as_ref().is_none_or(|o| o.rows == rows)
+            && local_columns as usize == t.local_rows()?;
+        Ok(Some(Blocks {
+            diagonal,
+            off,
+            ghosts,
+            rows,
+            fits,
+        }))
     }
 
     /// PETSc's type name of the matrix ("mpiaij", "seqaij", ...).
