@@ -1,6 +1,7 @@
 //! What is solved on a model of any size: real modes, static equilibrium, complex
 //! eigenvalues. Every analysis takes assembled operators, not meshes.
 
+pub mod block_lanczos;
 pub mod cea;
 pub mod contact_edge;
 pub mod continuation;
@@ -8,6 +9,7 @@ pub mod growth;
 pub mod modes;
 pub mod operators;
 pub mod pencil;
+pub mod replicated_factor;
 pub mod restraint;
 pub mod rigid;
 pub mod sensitivity;

@@ -5,7 +5,8 @@
 //! Two ways to the same numbers:
 //! - **shared**: K_II factored once over all ranks (MUMPS), the whole block solved there;
 //! - **each rank its own columns**: every rank factors its own copy of K_II (sequential
-//!   MUMPS), solves its share of the right-hand sides, and the ranks exchange rows. MUMPS's
+//!   MUMPS, [`ReplicatedFactor`]), solves its share of the right-hand sides, and the ranks
+//!   exchange rows; the factor is kept for the fixed-interface modes. MUMPS's
 //!   parallel solve phase does not scale with many right-hand sides: on small-caliper with
 //!   every pair on the boundary (61,533 interior equations, 1,723 right-hand sides) the
 //!   shared block solve took 14.4 s on 2 ranks and 5.9 s on 1, for a factorisation of
@@ -15,12 +16,10 @@
 //!   up to [`EACH_RANK_MAX_INTERIOR`] interior equations. One rank takes the shared way (it
 //!   is the same), so a check run on 1 and 2 ranks compares the two.
 
+use crate::analysis::replicated_factor::{ReplicatedFactor, RowBlock};
 use crate::petsc::{
     Comm, DenseMatrix, DirectPackage, FactoredMatrix, Factorization, Matrix, PetscError,
 };
-use faer::Mat;
-use mpi::datatype::{Partition, PartitionMut};
-use mpi::traits::CommunicatorCollectives;
 
 /// The most interior equations for which every rank factors its own copy of K_II: a 3D
 /// quadratic-tetrahedron factor grows faster than the equations (small-caliper's 61,533
@@ -48,11 +47,12 @@ pub(super) struct InteriorBlocks<'a, 'rt> {
 }
 
 /// [Psi | r] on this rank's interior rows (`interior.len() x (|B| + 1)`, the columns in the
-/// boundary's sorted order, then r). Collective.
-pub(super) fn constraint_modes(
-    comm: Comm<'_>,
-    blocks: InteriorBlocks<'_, '_>,
-) -> Result<Mat<f64>, PetscError> {
+/// boundary's sorted order, then r), and K_II's factor on every rank where every rank has
+/// one (on one rank, its only one), for the fixed-interface modes to solve with. Collective.
+pub(super) fn constraint_modes<'rt>(
+    comm: Comm<'rt>,
+    blocks: InteriorBlocks<'_, 'rt>,
+) -> Result<(RowBlock, Option<ReplicatedFactor<'rt>>), PetscError> {
     // A symmetric K_II (no kept friction inside: always so with every pair on the boundary)
     // is factored LDL^T: half the factor's memory (small-caliper, every pair on the
     // boundary: 0.52 s instead of 0.69 s, 200 MB less at the peak).
@@ -64,9 +64,20 @@ pub(super) fn constraint_modes(
     };
     let interior_total = blocks.k_ii.size()?.0;
     if comm.size() > 1 && interior_total <= EACH_RANK_MAX_INTERIOR {
-        each_rank(comm, &blocks, factorization)
+        let (modes, factor) = each_rank(comm, &blocks, factorization)?;
+        Ok((modes, Some(factor)))
     } else {
-        shared(comm, &blocks, factorization)
+        let (modes, factored) = shared(comm, &blocks, factorization)?;
+        let factor = if comm.size() == 1 {
+            Some(ReplicatedFactor::from_one_rank(
+                comm,
+                factored,
+                blocks.interior.len(),
+            )?)
+        } else {
+            None
+        };
+        Ok((modes, factor))
     }
 }
 
@@ -77,11 +88,11 @@ fn minus(row: &[(usize, f64)], column: usize) -> f64 {
 }
 
 /// One factorisation over all ranks, one block solve.
-fn shared(
-    comm: Comm<'_>,
-    b: &InteriorBlocks<'_, '_>,
+fn shared<'rt>(
+    comm: Comm<'rt>,
+    b: &InteriorBlocks<'_, 'rt>,
     factorization: Factorization,
-) -> Result<Mat<f64>, PetscError> {
+) -> Result<(RowBlock, FactoredMatrix<'rt>), PetscError> {
     let n_b = b.boundary.len();
     let mut rhs = DenseMatrix::zeros(comm, b.interior.len(), n_b + 1)?;
     rhs.write_local(|i, j| {
@@ -92,26 +103,20 @@ fn shared(
         }
     })?;
     let factored = FactoredMatrix::new(comm, b.k_ii, DirectPackage::Mumps, factorization)?;
-    factored.solve_block(&rhs)?.local_values()
+    let modes = RowBlock::from_dense(&factored.solve_block(&rhs)?)?;
+    Ok((modes, factored))
 }
 
 /// Every rank its own factor and its own share of the columns, then rows exchanged.
-fn each_rank(
-    comm: Comm<'_>,
-    b: &InteriorBlocks<'_, '_>,
+fn each_rank<'rt>(
+    comm: Comm<'rt>,
+    b: &InteriorBlocks<'_, 'rt>,
     factorization: Factorization,
-) -> Result<Mat<f64>, PetscError> {
-    let (rank, size) = (comm.rank(), comm.size());
+) -> Result<(RowBlock, ReplicatedFactor<'rt>), PetscError> {
     let n_b = b.boundary.len();
     let columns = n_b + 1;
-    let share = |r: usize| (r * columns / size, (r + 1) * columns / size);
-    let (c0, c1) = share(rank);
-    // Every rank's interior rows: their counts, in rank order.
-    let mut counts = vec![0u64; size];
-    comm.mpi()
-        .all_gather_into(&(b.interior.len() as u64), &mut counts[..]);
-    let rows: Vec<usize> = counts.iter().map(|&c| c as usize).collect();
-    let n_i: usize = rows.iter().sum();
+    let factor = ReplicatedFactor::new(comm, b.k_ii, factorization)?;
+    let n_i = factor.order();
     let every_interior = {
         let mut all = Vec::with_capacity(n_i);
         let mut boundary = b.boundary.iter().peekable();
@@ -132,23 +137,14 @@ fn each_rank(
             every_interior.len()
         )));
     }
-    let alone = comm.alone();
-    let my_boundary = &b.boundary[c0.min(n_b)..c1.min(n_b)];
-    let k_ii = b
-        .k_t
-        .sequential_submatrix(alone, &every_interior, &every_interior);
+    let mine = factor.share(comm.rank(), columns);
+    let my_boundary = &b.boundary[mine.start.min(n_b)..mine.end.min(n_b)];
     let k_ib = b
         .k_t
-        .sequential_submatrix(alone, &every_interior, my_boundary);
-    let (mut k_ii, k_ib) = (k_ii?, k_ib?);
-    if factorization == Factorization::Cholesky {
-        k_ii.mark_symmetric()?;
-    }
+        .sequential_submatrix(comm.alone(), &every_interior, my_boundary)?;
     // Each rank alone from here to the exchange: agree before it, so that no rank waits
     // there for one that failed.
     let solved = (|| {
-        let factored = FactoredMatrix::new(alone, &k_ii, DirectPackage::Mumps, factorization)?;
-        let mut rhs = DenseMatrix::zeros(alone, n_i, c1 - c0)?;
         let k_ib_rows: Vec<Vec<(usize, f64)>> = (0..n_i)
             .map(|i| {
                 let mut row = k_ib.row(i)?;
@@ -156,15 +152,13 @@ fn each_rank(
                 Ok(row)
             })
             .collect::<Result<_, PetscError>>()?;
-        rhs.write_local(|i, j| {
-            let column = c0 + j;
-            if column < n_b {
+        factor.solve_columns(mine.len(), |i, j| {
+            if mine.start + j < n_b {
                 minus(&k_ib_rows[i], j)
             } else {
                 b.load[every_interior[i]]
             }
-        })?;
-        factored.solve_block(&rhs)
+        })
     })();
     if !comm.all(solved.is_ok()) {
         return Err(solved.err().unwrap_or_else(|| PetscError::NotConverged {
@@ -172,70 +166,7 @@ fn each_rank(
             detail: "failed on another rank".into(),
         }));
     }
-    let solved = solved?;
-    drop((k_ii, k_ib));
-    // Rank s gets its interior rows of my columns, column by column.
-    let first_row: Vec<usize> = rows
-        .iter()
-        .scan(0, |at, &r| {
-            let first = *at;
-            *at += r;
-            Some(first)
-        })
-        .collect();
-    let mine = c1 - c0;
-    let send: Vec<f64> = solved.with_local(|s| {
-        let mut send = Vec::with_capacity(n_i * mine);
-        for dest in 0..size {
-            for j in 0..mine {
-                send.extend((first_row[dest]..first_row[dest] + rows[dest]).map(|i| s[(i, j)]));
-            }
-        }
-        send
-    })?;
-    drop(solved);
-    let count = |n: usize| {
-        mpi::Count::try_from(n).map_err(|_| {
-            PetscError::Invalid(format!("{n} values are too many for one MPI message"))
-        })
-    };
-    let send_counts: Vec<mpi::Count> = (0..size)
-        .map(|dest| count(rows[dest] * mine))
-        .collect::<Result<_, _>>()?;
-    let recv_counts: Vec<mpi::Count> = (0..size)
-        .map(|src| {
-            let (s0, s1) = share(src);
-            count(rows[rank] * (s1 - s0))
-        })
-        .collect::<Result<_, _>>()?;
-    let displacements = |counts: &[mpi::Count]| -> Vec<mpi::Count> {
-        counts
-            .iter()
-            .scan(0, |at, &c| {
-                let first = *at;
-                *at += c;
-                Some(first)
-            })
-            .collect()
-    };
-    let (send_at, recv_at) = (displacements(&send_counts), displacements(&recv_counts));
-    let mut received = vec![0.0; rows[rank] * columns];
-    {
-        let out = Partition::new(&send[..], send_counts, send_at);
-        let mut into = PartitionMut::new(&mut received[..], recv_counts, recv_at.clone());
-        comm.mpi().all_to_all_varcount_into(&out, &mut into);
-    }
-    drop(send);
-    let local = rows[rank];
-    let mut result = Mat::<f64>::zeros(local, columns);
-    for (src, &at) in recv_at.iter().enumerate() {
-        let (s0, s1) = share(src);
-        let at = at as usize;
-        for j in 0..s1 - s0 {
-            for i in 0..local {
-                result[(i, s0 + j)] = received[at + j * local + i];
-            }
-        }
-    }
-    Ok(result)
+    drop(k_ib);
+    let result = factor.to_rows(solved?, columns)?;
+    Ok((result, factor))
 }
