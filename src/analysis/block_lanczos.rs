@@ -32,6 +32,14 @@ use faer::{Accum, Mat, MatRef, Par, Side};
 /// columns at once, and 78 modes need about 8 such steps.
 pub const BLOCK: usize = 32;
 
+/// The most a rank holds of the basis V and its M-products, bytes: the subspace's bound
+/// where the mode count would make it larger (hundreds of modes, as a high cut-off on a
+/// large interior asks; beyond it SLEPc's Krylov-Schur, which restarts, takes over). At
+/// 2 GiB: small-caliper's 61,533 interior equations on 2 ranks allow 4,352 columns (221
+/// modes below 40 kHz took 1,440 and did not converge), medium-caliper's ~200,000 on one
+/// rank 640 (its 78 modes below 20 kHz need about 480).
+const MAX_BASIS_BYTES: usize = 2 << 30;
+
 /// What [`lowest_modes`] found.
 pub struct LanczosModes {
     /// omega^2 (Rayleigh quotients of the shapes), increasing.
@@ -49,8 +57,8 @@ pub struct LanczosModes {
 /// The `count` lowest eigenpairs of (K, M), which the caller knows to be the eigenvalues
 /// below `top`, each converged to `tolerance` relative (the shift-and-invert residual
 /// against theta, as SLEPc's own test). `factor` is K's; K and M are laid out by rows like
-/// it. `Ok(None)` when they did not converge within a subspace of about 6 count + 4 blocks,
-/// or the basis broke down (a space invariant so early has no more to give). Collective:
+/// it. `Ok(None)` when they did not converge within a subspace of about 6 count + 4 blocks
+/// (at most [`MAX_BASIS_BYTES`] a rank), or the basis broke down (a space invariant so early has no more to give). Collective:
 /// every decision is taken from sums every rank holds with the same bits.
 pub fn lowest_modes(
     comm: Comm<'_>,
@@ -75,7 +83,11 @@ pub fn lowest_modes(
     // Shift-and-invert converges the pairs nearest the shift first; the last ones, near
     // `top`, where the spectrum is dense, took a space of 6 count on small-caliper's
     // interior (78 pairs: 15 steps of 32); four blocks more to spare.
-    let max_blocks = ((6 * count + 4 * b) / b).min(n / b);
+    // And never more than the basis's memory bound: V and M V, this rank's rows (the
+    // largest rank's at most, n / ranks rounded up: the same bound on every rank).
+    let rows_bound = n.div_ceil(comm.size().max(1)).max(1);
+    let memory_blocks = MAX_BASIS_BYTES / (2 * std::mem::size_of::<f64>() * rows_bound * b);
+    let max_blocks = ((6 * count + 4 * b) / b).min(n / b).min(memory_blocks);
     if max_blocks < 2 {
         return Ok(None);
     }

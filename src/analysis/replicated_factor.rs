@@ -187,22 +187,26 @@ impl<'rt> ReplicatedFactor<'rt> {
         let (rank, size) = (self.comm.rank(), self.comm.size());
         let columns = local.ncols();
         let mine = self.share(rank, columns);
-        // To rank d: my rows of d's columns, column by column.
-        let mut send = Vec::with_capacity(local.nrows() * columns);
-        let mut send_counts = Vec::with_capacity(size);
-        for dest in 0..size {
-            let theirs = self.share(dest, columns);
-            send_counts.push(count(local.nrows() * theirs.len())?);
-            for j in theirs {
-                send.extend_from_slice(column(local, j));
+        let prepared = (|| -> Result<Exchange> {
+            // To rank d: my rows of d's columns, column by column.
+            let mut send = Vec::with_capacity(local.nrows() * columns);
+            let mut send_counts = Vec::with_capacity(size);
+            for dest in 0..size {
+                let theirs = self.share(dest, columns);
+                send_counts.push(count(local.nrows() * theirs.len())?);
+                for j in theirs {
+                    send.extend_from_slice(column(local, j));
+                }
             }
-        }
-        let recv_counts: Vec<mpi::Count> = self
-            .rows
-            .iter()
-            .map(|&r| count(r * mine.len()))
-            .collect::<Result<_>>()?;
-        let received = self.exchange(&send, send_counts, recv_counts.clone())?;
+            let recv_counts: Vec<mpi::Count> = self
+                .rows
+                .iter()
+                .map(|&r| count(r * mine.len()))
+                .collect::<Result<_>>()?;
+            Ok((send, send_counts, recv_counts))
+        })();
+        let (send, send_counts, recv_counts) = self.agreed(prepared)?;
+        let received = self.exchange(&send, send_counts, recv_counts)?;
         // From rank s: its rows of my columns, column by column.
         let n = self.order();
         let mut whole = Mat::<f64>::zeros(n, mine.len());
@@ -224,6 +228,22 @@ impl<'rt> ReplicatedFactor<'rt> {
     /// is 424 MB a rank, and holding it through the exchange made the exchange 2 s slower).
     /// Collective.
     pub fn to_rows(&self, whole: DenseMatrix<'rt>, columns: usize) -> Result<RowBlock> {
+        // Every local step that can fail before one decision of all ranks: a rank that left
+        // here would leave the others waiting in the all-to-all.
+        let prepared = self.rows_to_send(whole, columns);
+        let (send, send_counts, recv_counts) = self.agreed(prepared)?;
+        // From rank s: my rows of s's columns, column by column; the ranks' shares are
+        // consecutive, so what arrives is my rows of every column, column-major.
+        let values = self.exchange(&send, send_counts, recv_counts)?;
+        Ok(RowBlock {
+            values,
+            rows: self.local_rows(),
+            cols: columns,
+        })
+    }
+
+    /// [`to_rows`](Self::to_rows)'s local half: what goes to each rank and what comes back.
+    fn rows_to_send(&self, whole: DenseMatrix<'rt>, columns: usize) -> Result<Exchange> {
         let (rank, size) = (self.comm.rank(), self.comm.size());
         let mine = self.share(rank, columns);
         let (rows, cols) = (whole.local_rows()?, whole.size()?.1);
@@ -256,14 +276,18 @@ impl<'rt> ReplicatedFactor<'rt> {
         let recv_counts: Vec<mpi::Count> = (0..size)
             .map(|src| count(local * self.share(src, columns).len()))
             .collect::<Result<_>>()?;
-        // From rank s: my rows of s's columns, column by column; the ranks' shares are
-        // consecutive, so what arrives is my rows of every column, column-major.
-        let values = self.exchange(&send, send_counts, recv_counts)?;
-        Ok(RowBlock {
-            values,
-            rows: local,
-            cols: columns,
-        })
+        Ok((send, send_counts, recv_counts))
+    }
+
+    /// `prepared` where every rank prepared its part, else an `Err` on every rank (its own
+    /// where it failed). Collective.
+    fn agreed(&self, prepared: Result<Exchange>) -> Result<Exchange> {
+        if self.comm.all(prepared.is_ok()) {
+            return prepared;
+        }
+        Err(prepared.err().unwrap_or_else(|| {
+            PetscError::Invalid("the exchange of a block failed on another rank".into())
+        }))
     }
 
     fn exchange(
@@ -308,6 +332,9 @@ fn row_counts(comm: Comm<'_>, a: &Matrix<'_>) -> Result<Vec<usize>> {
         .all_gather_into(&((hi - lo) as u64), &mut counts[..]);
     Ok(counts.into_iter().map(|c| c as usize).collect())
 }
+
+/// What one rank sends, and how much it sends to and receives from each rank.
+type Exchange = (Vec<f64>, Vec<mpi::Count>, Vec<mpi::Count>);
 
 fn count(n: usize) -> Result<mpi::Count> {
     mpi::Count::try_from(n)

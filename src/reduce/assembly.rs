@@ -53,11 +53,11 @@ pub use super::dense_cea::{
     dense_cea, dense_cea_by, DenseCeaOptions, DenseCeaResult, DenseEigensolver,
 };
 use super::superelement::{BoundaryPair, SuperElement};
+use super::tangent_solver::TangentSolver;
 use crate::contact::{
     self, ContactPair, ContactPoint, PairSettings, PointContribution, PointState, Status,
 };
 use crate::vector3::{add, dot, scale, sub};
-use faer::linalg::solvers::Solve;
 use faer::Mat;
 
 /// The cubic contact law's stiffnesses (eq. 6), the same for every boundary pair.
@@ -258,6 +258,9 @@ pub struct ReducedStatic {
     /// Newton steps taken (0 when the start already satisfied the tolerance); along a path
     /// ([`super::dense_path`]), every step of every increment.
     pub iterations: usize,
+    /// Dense LU factorisations those steps made ([`TangentSolver`]: a step is solved on an
+    /// earlier LU of the same solve where GMRES gets there).
+    pub factorizations: usize,
     /// |R| at the start and after every step (along a path: the last solve's).
     pub residual_history: Vec<f64>,
     pub pairs: Vec<PairState>,
@@ -725,11 +728,13 @@ impl<'se> Assembly<'se> {
         friction: f64,
         options: &StaticOptions,
     ) -> Result<ReducedStatic, AssemblyError> {
-        self.newton(start, friction, 1.0, &self.history, options)
+        let mut solver = TangentSolver::new();
+        self.newton(start, friction, 1.0, &self.history, options, &mut solver)
     }
 
     /// Newton on R(q) = K_r q + F_c(q) - factor load from `start`, the return mapping of
-    /// the kept Coulomb pairs from `history` (backward Euler: one increment).
+    /// the kept Coulomb pairs from `history` (backward Euler: one increment), its steps by
+    /// `solver` (which may hold an LU of an earlier solve of the same point).
     pub(super) fn newton(
         &self,
         start: &[f64],
@@ -737,7 +742,9 @@ impl<'se> Assembly<'se> {
         factor: f64,
         history: &[[f64; 3]],
         options: &StaticOptions,
+        solver: &mut TangentSolver,
     ) -> Result<ReducedStatic, AssemblyError> {
+        let factorizations_before = solver.factorizations;
         if start.len() != self.se.header.size {
             return Err(AssemblyError::Inconsistent(format!(
                 "a start of {} coordinates for size {}",
@@ -773,9 +780,8 @@ impl<'se> Assembly<'se> {
                 });
             }
             let jac = self.jacobian_from(&q, friction, history);
-            let mut step = Mat::from_fn(q.len(), 1, |i, _| -r[i]);
-            jac.partial_piv_lu().solve_in_place(step.as_mut());
-            if (0..q.len()).any(|i| !step[(i, 0)].is_finite()) {
+            let step = solver.step(&jac, &r);
+            if step.iter().any(|x| !x.is_finite()) {
                 return Err(AssemblyError::Singular {
                     friction,
                     iteration: iterations,
@@ -783,8 +789,8 @@ impl<'se> Assembly<'se> {
             }
             iterations += 1;
             if options.line_search == LineSearch::CriticalPoint {
-                let d: Vec<f64> = (0..q.len()).map(|i| step[(i, 0)]).collect();
-                let l = critical_point(&q, &d, &r, &residual);
+                let d = &step;
+                let l = critical_point(&q, d, &r, &residual);
                 q = (0..q.len()).map(|i| q[i] + l * d[i]).collect();
                 r = residual(&q);
                 let previous = norm;
@@ -801,7 +807,7 @@ impl<'se> Assembly<'se> {
             let mut alpha = 1.0;
             let mut accepted = None;
             for _ in 0..30 {
-                let trial: Vec<f64> = (0..q.len()).map(|i| q[i] + alpha * step[(i, 0)]).collect();
+                let trial: Vec<f64> = q.iter().zip(&step).map(|(a, b)| a + alpha * b).collect();
                 let rt = residual(&trial);
                 let nt = norm2(&rt);
                 if nt <= (1.0 - 1e-4 * alpha) * norm {
@@ -837,6 +843,7 @@ impl<'se> Assembly<'se> {
             friction,
             q,
             iterations,
+            factorizations: solver.factorizations - factorizations_before,
             residual_history: history_of_norms,
             pairs,
             cutbacks: 0,

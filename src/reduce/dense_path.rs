@@ -15,6 +15,7 @@
 //! Newton solve it always was.
 
 use super::assembly::{Assembly, AssemblyError, LineSearch, ReducedStatic, StaticOptions};
+use super::tangent_solver::TangentSolver;
 use crate::analysis::continuation::SUBSTEPS;
 
 /// Where a dense static starts from: an equilibrium at friction `mu`, its q and the slip
@@ -40,7 +41,8 @@ impl DenseState {
 
 impl Assembly<'_> {
     /// One increment as the full model takes it: Newton with the critical-point line
-    /// search, then, if that fails, with backtracking ([`LineSearch`]).
+    /// search, then, if that fails, with backtracking ([`LineSearch`]); the steps by
+    /// `solver`, which the point's increments share.
     fn increment(
         &self,
         start: &[f64],
@@ -48,12 +50,13 @@ impl Assembly<'_> {
         factor: f64,
         history: &[[f64; 3]],
         options: &StaticOptions,
+        solver: &mut TangentSolver,
     ) -> Result<ReducedStatic, AssemblyError> {
         let first = StaticOptions {
             line_search: LineSearch::CriticalPoint,
             ..*options
         };
-        self.newton(start, mu, factor, history, &first)
+        self.newton(start, mu, factor, history, &first, solver)
             .or_else(|e| {
                 tracing::debug!(
                     "reduced static at mu {mu}, load factor {factor}: {e}; retrying with \
@@ -63,7 +66,7 @@ impl Assembly<'_> {
                     line_search: LineSearch::Backtracking,
                     ..*options
                 };
-                self.newton(start, mu, factor, history, &second)
+                self.newton(start, mu, factor, history, &second, solver)
             })
     }
 
@@ -84,9 +87,10 @@ impl Assembly<'_> {
         let mut step = 1.0 / increments.max(1) as f64;
         let (mut halvings, mut iterations) = (0, 0);
         let mut last = None;
+        let mut solver = TangentSolver::new();
         while factor < 1.0 - 1e-12 {
             let target = (factor + step).min(1.0);
-            match self.increment(&q, mu, target, &history, options) {
+            match self.increment(&q, mu, target, &history, options, &mut solver) {
                 Ok(solved) => {
                     iterations += solved.iterations;
                     factor = target;
@@ -114,6 +118,7 @@ impl Assembly<'_> {
         let mut solved =
             last.ok_or_else(|| AssemblyError::Inconsistent("no load increment was taken".into()))?;
         solved.iterations = iterations;
+        solved.factorizations = solver.factorizations;
         solved.cutbacks = halvings;
         Ok(solved)
     }
@@ -127,8 +132,19 @@ impl Assembly<'_> {
         mu: f64,
         options: &StaticOptions,
     ) -> Result<ReducedStatic, AssemblyError> {
-        let first_error = match self.increment(&previous.q, mu, 1.0, &previous.anchors, options) {
-            Ok(solved) => return Ok(solved),
+        let mut solver = TangentSolver::new();
+        let first_error = match self.increment(
+            &previous.q,
+            mu,
+            1.0,
+            &previous.anchors,
+            options,
+            &mut solver,
+        ) {
+            Ok(mut solved) => {
+                solved.factorizations = solver.factorizations;
+                return Ok(solved);
+            }
             Err(e) => e,
         };
         let from = previous.mu;
@@ -143,7 +159,14 @@ impl Assembly<'_> {
             let mut reached = None;
             for k in 1..=parts {
                 let at = from + (mu - from) * k as f64 / parts as f64;
-                match self.increment(&at_start.q, at, 1.0, &at_start.anchors, options) {
+                match self.increment(
+                    &at_start.q,
+                    at,
+                    1.0,
+                    &at_start.anchors,
+                    options,
+                    &mut solver,
+                ) {
                     Ok(solved) => {
                         iterations += solved.iterations;
                         at_start = DenseState::after(&solved);
@@ -158,6 +181,7 @@ impl Assembly<'_> {
             }
             if let Some(mut solved) = reached {
                 solved.iterations = iterations;
+                solved.factorizations = solver.factorizations;
                 solved.cutbacks = cutbacks;
                 return Ok(solved);
             }

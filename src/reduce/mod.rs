@@ -42,6 +42,7 @@ pub mod radius;
 pub mod strategy;
 pub mod superelement;
 pub mod superelement_file;
+pub mod tangent_solver;
 pub mod tilt;
 pub mod warp;
 

@@ -144,12 +144,13 @@ impl SweepPointReport {
                     .iter()
                     .fold(0.0, |a: f64, &b| a.max(b));
                 format!(
-                    "; super-element #{} of size {} ({}: {}), dense static {} iterations from {:.1e}, largest estimated frequency error {:.1e}",
+                    "; super-element #{} of size {} ({}: {}), dense static {} iterations ({} LU) from {:.1e}, largest estimated frequency error {:.1e}",
                     se.index,
                     se.size,
                     if se.rebuilt { "built" } else { "reused" },
                     se.reason,
                     se.dense_static_iterations,
+                    se.dense_static_factorizations,
                     se.start_residual,
                     worst
                 )
@@ -231,6 +232,10 @@ pub struct SuperElementPoint {
     /// super-element was made or moved to this point's equilibrium.
     pub start_residual: f64,
     pub dense_static_iterations: usize,
+    /// Dense LU factorisations those iterations made (the others were solved on an earlier
+    /// one: `reduce::tangent_solver`); absent from files written before it was counted.
+    #[serde(default)]
+    pub dense_static_factorizations: usize,
     pub dense_static_seconds: f64,
     pub dense_cea_seconds: f64,
     /// Expanding the modes (u = T q) and their residuals in the reduced-interface model, s.

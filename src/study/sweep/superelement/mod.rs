@@ -856,6 +856,7 @@ impl<'rt> FrictionModel<'rt> for SuperElementModel<'rt> {
                         build_seconds: choice.build_seconds,
                         start_residual: *start_residual,
                         dense_static_iterations: statics.iterations,
+                        dense_static_factorizations: statics.factorizations,
                         dense_static_seconds: *static_seconds,
                         dense_cea_seconds: *cea_seconds,
                         expansion_seconds,
