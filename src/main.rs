@@ -202,6 +202,11 @@ enum Command {
         /// Fixed-interface modes up to this frequency, Hz (default 2 x --fmax).
         #[arg(long)]
         cutoff: Option<f64>,
+        /// Add to each super-element the residual vectors of its band's modes: the
+        /// interior's static response to their inertia forces, which the fixed-interface
+        /// modes above --cutoff would carry (study key reduction.residual_vectors).
+        #[arg(long)]
+        residual_vectors: bool,
         /// k_l of the cubic contact law, N/m (default: each pair's penalty x area).
         #[arg(long)]
         k_linear: Option<f64>,
@@ -649,6 +654,7 @@ fn main() -> ExitCode {
             superelements,
             superelement_friction,
             cutoff,
+            residual_vectors,
             k_linear,
             k_cubic,
         } => reduction_flags(&interface).and_then(|reduction| {
@@ -661,6 +667,7 @@ fn main() -> ExitCode {
                 strategy: superelements,
                 friction: superelement_friction,
                 cutoff_hz: cutoff,
+                residual_vectors,
                 k_linear,
                 k_cubic,
             };

@@ -74,8 +74,9 @@ pub struct LanczosModes {
 /// below `top`, each converged to `tolerance` relative (the shift-and-invert residual
 /// against theta, as SLEPc's own test). `factor` is K's; K and M are laid out by rows like
 /// it. `Ok(None)` when they did not converge within a subspace of about 6 count + 4 blocks
-/// (at most [`MAX_BASIS_BYTES`] a rank), or the basis broke down (a space invariant so early has no more to give). Collective:
-/// every decision is taken from sums every rank holds with the same bits.
+/// (at most [`MAX_BASIS_BYTES`] a rank), or the basis broke down (a space invariant so early
+/// has no more to give). Collective: every decision is taken from sums every rank holds with
+/// the same bits.
 pub fn lowest_modes(
     comm: Comm<'_>,
     factor: &ReplicatedFactor<'_>,

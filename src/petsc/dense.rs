@@ -246,8 +246,9 @@ impl<'rt> DenseMatrix<'rt> {
 
     /// This rank's rows, as a `local_rows x cols` faer matrix.
     pub fn local_values(&self) -> Result<Mat<f64>> {
-        let local = self.local()?;
-        Ok(Mat::from_fn(local.rows, local.cols, |i, j| local.get(i, j)))
+        // Column by column from the view: entry by entry through `get` took 1.6 s for
+        // small-caliper's T (31,000 rows x 1,800 columns a rank).
+        self.with_local(|m| m.to_owned())
     }
 
     /// Column j as a vector laid out like the rows (collective).

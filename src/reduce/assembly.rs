@@ -1101,6 +1101,7 @@ mod tests {
                 cutoff_hz: 2e4,
                 modes: 2,
                 size,
+                residual_vectors: 0,
                 other_contacts,
                 mesh_hash: "mesh".into(),
                 study_hash: "study".into(),

@@ -38,6 +38,23 @@ impl LocalBasis {
         self.values[(i, j)]
     }
 
+    /// This rank's rows of T.
+    pub fn values(&self) -> MatRef<'_, f64> {
+        self.values.as_ref()
+    }
+
+    /// T with more columns `w` (this rank's rows) after its own.
+    pub fn append_columns(&mut self, w: MatRef<'_, f64>) {
+        let (rows, n) = (self.values.nrows(), self.values.ncols());
+        let mut extended = Mat::<f64>::zeros(rows, n + w.ncols());
+        extended
+            .as_mut()
+            .subcols_mut(0, n)
+            .copy_from(self.values.as_ref());
+        extended.as_mut().subcols_mut(n, w.ncols()).copy_from(w);
+        self.values = extended;
+    }
+
     /// Reduced coordinates: T's columns.
     pub fn size(&self) -> usize {
         self.values.ncols()

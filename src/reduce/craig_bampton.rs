@@ -42,6 +42,7 @@
 
 use super::constraint_modes::{constraint_modes, InteriorBlocks};
 use super::interface::ReducedInterface;
+use super::residual_vectors::ResidualVectors;
 use super::superelement::{BoundaryPair, BoundaryTilt, SuperElement, SuperElementHeader};
 use crate::analysis::block_lanczos;
 use crate::analysis::cea::{self, CeaError, CeaOptions};
@@ -202,6 +203,9 @@ pub struct CraigBampton<'rt> {
     pub boundary_equations: Vec<usize>,
     /// Each boundary pair's contact point in the model: (pair index, point index).
     pub boundary_points: Vec<(usize, usize)>,
+    /// What the residual vectors need, when [`BuildSettings::residual_vectors`] asked and
+    /// the interior allows them.
+    pub residual: Option<ResidualVectors<'rt>>,
 }
 
 /// What a super-element is made with besides its model and equilibrium.
@@ -215,6 +219,10 @@ pub struct BuildSettings {
     /// one of a sweep): the unsymmetric interior's eigensolve then covers the band in one
     /// shift instead of several. A wrong hint costs time, never modes.
     pub interior_modes_hint: Option<usize>,
+    /// Keep what residual vectors need ([`super::residual_vectors`]): the interior's factor
+    /// and operators, in [`CraigBampton::residual`], where the interior is symmetric and has
+    /// no constraints.
+    pub residual_vectors: bool,
 }
 
 /// [`build_superelement`], keeping the basis T. Collective.
@@ -247,6 +255,7 @@ pub fn build_superelement<'rt>(
         friction,
         cutoff_hz,
         interior_modes_hint: None,
+        residual_vectors: false,
     };
     build(comm, reduced, operators, equilibrium, swept, &settings).map(|b| b.superelement)
 }
@@ -263,6 +272,7 @@ fn build<'rt>(
         friction,
         cutoff_hz,
         interior_modes_hint,
+        residual_vectors,
     } = *settings;
     let model = &reduced.model;
     let Configuration {
@@ -358,14 +368,15 @@ fn build<'rt>(
     // Read by columns' slices: a faer view's element access cost 2 s more in writing T.
     let solved = &solved_block;
     let started = std::time::Instant::now();
-    let (shapes, n_fixed) = if symmetric {
+    let (shapes, n_fixed, interior_factor) = if symmetric {
         k_ii.mark_symmetric()?;
-        symmetric_modes(comm, &k_ii, &m_ii, interior_factor, cutoff_hz)?
+        let (shapes, n) = symmetric_modes(comm, &k_ii, &m_ii, interior_factor.as_ref(), cutoff_hz)?;
+        (shapes, n, interior_factor)
     } else {
         // Its LU is of K_II, not of the shifted pencils the CEA factors.
         drop(interior_factor);
         let (shapes, n) = unsymmetric_modes(comm, &k_ii, &m_ii, cutoff_hz, interior_modes_hint)?;
-        (shapes, n)
+        (shapes, n, None)
     };
     let n_m = shapes.len();
     tracing::info!(
@@ -488,6 +499,25 @@ fn build<'rt>(
     );
     let mut q_s = u_b;
     q_s.extend((0..n_c).map(|i| x[(i, 0)]));
+    let residual = match (residual_vectors, interior_factor) {
+        (true, Some(factor)) if constraints.is_none() => {
+            let c = fit.local_values()?;
+            let m_c = m_fit.local_values()?;
+            Some(ResidualVectors {
+                factor,
+                mass: mass.duplicate()?,
+                m_ii,
+                load: effective_load.copy()?,
+                interior: interior.clone(),
+                first_row: lo,
+                c: c.subcols(0, n_c).to_owned(),
+                m_c: m_c.subcols(0, n_c).to_owned(),
+                gram: g.clone(),
+                k_t,
+            })
+        }
+        _ => None,
+    };
 
     // 5. The header.
     let mut pairs_out = Vec::with_capacity(boundary.points.len());
@@ -540,6 +570,7 @@ fn build<'rt>(
             cutoff_hz,
             modes: n_m,
             size,
+            residual_vectors: 0,
             other_contacts,
             mesh_hash: String::new(),
             study_hash: String::new(),
@@ -559,6 +590,7 @@ fn build<'rt>(
         basis,
         boundary_points: boundary.points.iter().map(|&(i, k, _, _)| (i, k)).collect(),
         boundary_equations: boundary.equations,
+        residual,
     })
 }
 
@@ -758,7 +790,7 @@ fn symmetric_modes<'rt>(
     comm: Comm<'rt>,
     k_ii: &Matrix<'rt>,
     m_ii: &Matrix<'rt>,
-    factor: Option<ReplicatedFactor<'rt>>,
+    factor: Option<&ReplicatedFactor<'rt>>,
     cutoff_hz: f64,
 ) -> Result<(Vec<Vec<f64>>, usize), SuperElementError> {
     if let Some(factor) = factor {
@@ -766,7 +798,7 @@ fn symmetric_modes<'rt>(
         let count = crate::petsc::eigenvalues_below(comm, k_ii, m_ii, top)?;
         if let Some(found) = block_lanczos::lowest_modes(
             comm,
-            &factor,
+            factor,
             k_ii,
             m_ii,
             count,

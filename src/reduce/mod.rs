@@ -39,6 +39,7 @@ pub mod grid;
 pub mod interface;
 pub mod pairs;
 pub mod radius;
+pub mod residual_vectors;
 pub mod strategy;
 pub mod superelement;
 pub mod superelement_file;

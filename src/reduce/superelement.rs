@@ -106,8 +106,11 @@ pub struct SuperElementHeader {
     /// eigenvectors of the unsymmetric (K_II, M_II)).
     pub modes: usize,
     /// Reduced size: 6 per boundary pair (12 with a patch law) + modes + 1 (the static
-    /// correction).
+    /// correction) + residual vectors.
     pub size: usize,
+    /// Residual vectors after the static correction ([`super::residual_vectors`]).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub residual_vectors: usize,
     /// State of every other (non-swept) contact pair's points at the equilibrium: per pair,
     /// its name and each point's state, open, stick or slip (a change means a new
     /// super-element).
@@ -181,4 +184,8 @@ impl SuperElementHeader {
             })
             .collect()
     }
+}
+
+fn is_zero(n: &usize) -> bool {
+    *n == 0
 }

@@ -159,7 +159,7 @@ fn check_shapes(se: &SuperElement) -> Result<(), String> {
             ));
         }
     }
-    let expected = se.header.boundary_size() + se.header.modes + 1;
+    let expected = se.header.boundary_size() + se.header.modes + 1 + se.header.residual_vectors;
     if n != expected {
         return Err(format!(
             "size {n}, but {} boundary pairs and {} modes make {expected}",
@@ -498,6 +498,7 @@ mod tests {
                 cutoff_hz: 12_000.0,
                 modes: 1,
                 size: n,
+                residual_vectors: 0,
                 other_contacts: vec![(
                     "piston/pad".into(),
                     vec![Status::Stick, Status::Open, Status::Slip],
@@ -718,7 +719,7 @@ mod tests {
             let mut se = sample();
             se.header.boundary[0].tilt = first;
             se.header.boundary[1].tilt = second;
-            let n = se.header.boundary_size() + se.header.modes + 1;
+            let n = se.header.boundary_size() + se.header.modes + 1 + se.header.residual_vectors;
             se.header.size = n;
             se.stiffness = faer::Mat::from_fn(n, n, |i, j| (i + 2 * j) as f64);
             se.mass = faer::Mat::from_fn(n, n, |i, j| (i * j) as f64 + 0.5);

@@ -219,11 +219,14 @@ pub struct SuperElementPoint {
     /// Whether it was built at this point, and why; or why it was reused.
     pub rebuilt: bool,
     pub reason: String,
-    /// Reduced unknowns: 6 per boundary pair, the fixed-interface modes and the static
-    /// correction.
+    /// Reduced unknowns: 6 per boundary pair, the fixed-interface modes, the static
+    /// correction and the residual vectors.
     pub size: usize,
     pub boundary: usize,
     pub modes: usize,
+    /// Residual vectors of the band's modes in the basis (`--residual-vectors`).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub residual_vectors: usize,
     /// The reduced-interface static at this point (0 when none was needed), s.
     pub reduced_interface_static_seconds: f64,
     /// Building the super-element at this point (0 when reused), s.
@@ -261,4 +264,8 @@ pub struct SuperElementInfo {
     /// k_l; `None`: each pair's penalty times its area.
     pub k_linear: Option<f64>,
     pub k_cubic: f64,
+}
+
+fn is_zero(n: &usize) -> bool {
+    *n == 0
 }

@@ -78,6 +78,10 @@ pub struct ReductionSpec {
     /// (the paper kept 0-12 kHz for a 0-6 kHz study).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub cutoff_frequency_hz: Option<f64>,
+    /// Each super-element with the residual vectors of its band's modes
+    /// ([`crate::reduce::residual_vectors`]). Off unless asked for.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub residual_vectors: bool,
     /// k_l of the cubic contact law (N/m); default each pair's penalty times its area, the
     /// reduced-interface model's own stiffness.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -117,6 +121,7 @@ impl ReductionSpec {
             superelements: None,
             superelement_friction: None,
             cutoff_frequency_hz: None,
+            residual_vectors: false,
             k_linear: None,
             k_cubic: None,
             reduce_pairs: ReducePairs::Swept,

@@ -140,6 +140,7 @@ fn build<'rt>(s: &Setup<'rt>, rt: &'rt Runtime, cutoff: f64) -> Result<CraigBamp
             friction: FRICTION,
             cutoff_hz: cutoff,
             interior_modes_hint: None,
+            residual_vectors: false,
         },
     )
     .map_err(e)?;
@@ -390,6 +391,7 @@ fn refuses_bad_input(rt: &Runtime, s: &Setup) -> Result<(), String> {
                 friction: FRICTION,
                 cutoff_hz: cutoff,
                 interior_modes_hint: None,
+                residual_vectors: false,
             },
         )
         .err()

@@ -48,6 +48,9 @@ pub struct SuperElementSettings {
     pub contact: CubicContact,
     pub max_frequency_hz: f64,
     pub unstable_threshold: f64,
+    /// Residual vectors of the band's modes in each super-element
+    /// ([`reduce::residual_vectors`]).
+    pub residual_vectors: bool,
 }
 
 /// The super-element in use, with what it needs to be expanded and moved.
@@ -186,6 +189,7 @@ impl<'rt> SuperElementModel<'rt> {
             },
             max_frequency_hz,
             unstable_threshold: sweep.analysis.unstable_threshold,
+            residual_vectors: reduction.residual_vectors,
         };
         Ok(SuperElementModel {
             mesh_hash: hash::mesh_hash(&base.model.mesh),
@@ -272,6 +276,7 @@ impl<'rt> SuperElementModel<'rt> {
                 friction: mu,
                 cutoff_hz: self.settings.cutoff_hz,
                 interior_modes_hint: self.interior_modes,
+                residual_vectors: self.settings.residual_vectors,
             },
         )
         .map_err(|source| StudyError::SuperElement { mu, source })?;
@@ -284,6 +289,9 @@ impl<'rt> SuperElementModel<'rt> {
                 })?;
         let slipping = slipping_forces(&self.boundary, &states);
         let basis = LocalBasis::from_dense(&cb.basis)?;
+        // Its rows are `basis` now: not held twice through the residual vectors' solve.
+        drop(cb.basis);
+        let residual = cb.residual;
         let mut se = cb.superelement;
         se.header.mesh_hash = self.mesh_hash.clone();
         se.header.study_hash = self.study_hash.clone();
@@ -299,6 +307,56 @@ impl<'rt> SuperElementModel<'rt> {
             slip: at.slip.clone(),
             slipping,
         });
+        if let Some(residual) = residual {
+            self.add_residual_vectors(comm, mu, residual)?;
+        } else if self.settings.residual_vectors {
+            tracing::warn!(
+                "mu {mu}: no residual vectors: the super-element's interior is unsymmetric \
+                 (a kept pair's friction) or has linear constraints"
+            );
+        }
+        Ok(())
+    }
+
+    /// Adds to the current super-element (just built, its basis `t`) the residual vectors
+    /// of its own band's modes at `mu` ([`reduce::residual_vectors`]). Collective.
+    fn add_residual_vectors(
+        &mut self,
+        comm: Comm<'rt>,
+        mu: f64,
+        residual: reduce::residual_vectors::ResidualVectors<'rt>,
+    ) -> Result<(), StudyError> {
+        let started = Instant::now();
+        let dense = self.dense(comm, mu, true)?;
+        tracing::debug!(
+            "residual vectors: the dense modes in {:.2} s",
+            started.elapsed().as_secs_f64()
+        );
+        let current = self.current.as_mut().ok_or(StudyError::NoSuperElement)?;
+        let n = current.se.header.size;
+        let m = dense.shapes.len();
+        let q = Mat::from_fn(n, 2 * m, |i, c| {
+            let z = dense.shapes[c / 2][i];
+            if c % 2 == 0 {
+                z.re
+            } else {
+                z.im
+            }
+        });
+        let x = current.basis.expand(q.as_ref());
+        tracing::debug!(
+            "residual vectors: expanded at {:.2} s",
+            started.elapsed().as_secs_f64()
+        );
+        let added = residual
+            .add_to(comm, &mut current.se, &mut current.basis, x.as_ref())
+            .map_err(|source| StudyError::SuperElement { mu, source })?;
+        tracing::info!(
+            "super-element: {added} residual vectors of its {m} modes at mu {mu}, size {n} -> \
+             {} ({:.1} s)",
+            current.se.header.size,
+            started.elapsed().as_secs_f64()
+        );
         Ok(())
     }
 
@@ -852,6 +910,7 @@ impl<'rt> FrictionModel<'rt> for SuperElementModel<'rt> {
                         size: n,
                         boundary: n_b,
                         modes: current.se.header.modes,
+                        residual_vectors: current.se.header.residual_vectors,
                         reduced_interface_static_seconds: choice.reduced_static_seconds,
                         build_seconds: choice.build_seconds,
                         start_residual: *start_residual,
