@@ -202,11 +202,16 @@ enum Command {
         /// Fixed-interface modes up to this frequency, Hz (default 2 x --fmax).
         #[arg(long)]
         cutoff: Option<f64>,
-        /// Add to each super-element the residual vectors of its band's modes: the
+        /// Add to each super-element the residual vectors of its band's modes at mu_SE: the
         /// interior's static response to their inertia forces, which the fixed-interface
-        /// modes above --cutoff would carry (study key reduction.residual_vectors).
-        #[arg(long)]
+        /// modes above --cutoff would carry (study key reduction.residual_vectors). The
+        /// default wherever the interior holds no contact (--reduce-pairs all); asked for
+        /// here, a super-element that cannot have them says so.
+        #[arg(long, conflicts_with = "no_residual_vectors")]
         residual_vectors: bool,
+        /// Build the super-elements without residual vectors.
+        #[arg(long)]
+        no_residual_vectors: bool,
         /// k_l of the cubic contact law, N/m (default: each pair's penalty x area).
         #[arg(long)]
         k_linear: Option<f64>,
@@ -655,6 +660,7 @@ fn main() -> ExitCode {
             superelement_friction,
             cutoff,
             residual_vectors,
+            no_residual_vectors,
             k_linear,
             k_cubic,
         } => reduction_flags(&interface).and_then(|reduction| {
@@ -667,7 +673,11 @@ fn main() -> ExitCode {
                 strategy: superelements,
                 friction: superelement_friction,
                 cutoff_hz: cutoff,
-                residual_vectors,
+                residual_vectors: match (residual_vectors, no_residual_vectors) {
+                    (true, _) => Some(true),
+                    (_, true) => Some(false),
+                    _ => None,
+                },
                 k_linear,
                 k_cubic,
             };

@@ -1221,6 +1221,25 @@ mod tests {
 
     /// Kept pairs to reduce and their grids: read, written only when not the default,
     /// handed to the interface, and a wrong grid refused naming the pair's key.
+    /// `residual_vectors`: absent (the default: made wherever the interior holds no contact),
+    /// asked for or left out; a study written before it was a default still reads.
+    #[test]
+    fn residual_vectors_read_as_absent_asked_or_left_out() {
+        for (text, expected) in [
+            ("", None),
+            ("residual_vectors = true\n", Some(true)),
+            ("residual_vectors = false\n", Some(false)),
+        ] {
+            let r: ReductionSpec =
+                toml::from_str(&format!("contact_nodes_per_pad = 6\n{text}")).unwrap();
+            assert_eq!(r.residual_vectors, expected, "{text}");
+            let written = toml::to_string(&r).unwrap();
+            assert_eq!(written.contains("residual_vectors"), expected.is_some());
+            let again: ReductionSpec = toml::from_str(&written).unwrap();
+            assert_eq!(again, r);
+        }
+    }
+
     #[test]
     fn reduced_kept_pairs_and_their_grids_read_and_are_checked() {
         let r: ReductionSpec = toml::from_str("contact_nodes_per_pad = 6\n").unwrap();

@@ -78,10 +78,12 @@ pub struct ReductionSpec {
     /// (the paper kept 0-12 kHz for a 0-6 kHz study).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub cutoff_frequency_hz: Option<f64>,
-    /// Each super-element with the residual vectors of its band's modes
-    /// ([`crate::reduce::residual_vectors`]). Off unless asked for.
-    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
-    pub residual_vectors: bool,
+    /// Each super-element with the residual vectors of its band's modes at mu_SE
+    /// ([`crate::reduce::residual_vectors`]). Absent: made wherever they can be, a
+    /// super-element whose interior holds no contact (every pair reduced); `true` asks for
+    /// them and warns where they cannot be made, `false` leaves them out.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub residual_vectors: Option<bool>,
     /// k_l of the cubic contact law (N/m); default each pair's penalty times its area, the
     /// reduced-interface model's own stiffness.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -121,7 +123,7 @@ impl ReductionSpec {
             superelements: None,
             superelement_friction: None,
             cutoff_frequency_hz: None,
-            residual_vectors: false,
+            residual_vectors: None,
             k_linear: None,
             k_cubic: None,
             reduce_pairs: ReducePairs::Swept,

@@ -13,6 +13,8 @@
 //!   acts on the boundary. So the dense static with the kept Coulomb pairs' history carried
 //!   along the sweep must reach the full-size model's equilibrium: the same open, stick and
 //!   slip points per pair, and the same pair forces to the Newton tolerances (1e-6).
+//! - Residual vectors, on by default here, come from mu_SE's modes whatever the strategy and
+//!   the point it builds at, so they do not part the strategies' bases.
 //! - The modes are Rayleigh-Ritz approximations whose missing content lies above the
 //!   cut-off: each mode is within its own error estimate of the reference's nearest one.
 
@@ -86,6 +88,8 @@ fn one_superelement_with_no_contact_inside_serves_the_whole_sweep() {
         assert_eq!(rebuilt, builds, "{se:?}");
         for s in &se {
             assert_eq!(s["reduced_interface_static_seconds"].as_f64(), Some(0.0));
+            // With residual vectors, the default here: mu_SE's, so every build has the same.
+            assert!(s["residual_vectors"].as_u64().unwrap() > 0, "{s}");
             assert!(s["reason"].as_str().unwrap().contains("no contact"), "{s}");
         }
     }
@@ -183,8 +187,8 @@ fn frequencies(json: &serde_json::Value) -> Vec<Vec<f64>> {
         .collect()
 }
 
-/// Residual vectors (`--residual-vectors`, issue 32): the interior's static response to the
-/// inertia forces of the band's own modes, added to the basis. Without friction the pencil
+/// Residual vectors (the default with every pair reduced, issue 32): the interior's static
+/// response to the inertia forces of the band's modes at mu_SE, added to the basis. Without friction the pencil
 /// is symmetric and the super-element's modes are Rayleigh-Ritz values of the
 /// reduced-interface model's own pencil (the same equilibrium: the static is exact in the
 /// basis), over span(T) without the vectors and over a larger space with them: by
@@ -197,16 +201,28 @@ fn frequencies(json: &serde_json::Value) -> Vec<Vec<f64>> {
 #[test]
 fn residual_vectors_bring_a_superelement_to_its_reduced_interface_model() {
     let dir = common::scratch("se", "residual_vectors");
-    let with = ["--superelements", "single", "--residual-vectors"];
     let mu = "0,0.9";
     let reference = sweep_at(2, &dir.join("reduced"), mu, &[]);
-    let plain = sweep_at(2, &dir.join("plain"), mu, &["--superelements", "single"]);
-    let enriched = sweep_at(2, &dir.join("enriched"), mu, &with);
-    let one_rank = sweep_at(1, &dir.join("one"), mu, &with);
+    let plain = sweep_at(
+        2,
+        &dir.join("plain"),
+        mu,
+        &["--superelements", "single", "--no-residual-vectors"],
+    );
+    // The default with every pair reduced; asked for by name on one rank.
+    let enriched = sweep_at(2, &dir.join("enriched"), mu, &["--superelements", "single"]);
+    let one_rank = sweep_at(
+        1,
+        &dir.join("one"),
+        mu,
+        &["--superelements", "single", "--residual-vectors"],
+    );
     for p in points(&enriched) {
         let size = p["superelement"]["size"].as_u64().unwrap();
         let plain_size = points(&plain)[0]["superelement"]["size"].as_u64().unwrap();
         assert!(size > plain_size, "{size} against {plain_size}");
+        let none = &points(&plain)[0]["superelement"]["residual_vectors"];
+        assert!(none.is_null() || none == 0, "{none}");
     }
 
     let (exact, without, with) = (

@@ -153,7 +153,7 @@ pub struct SuperElementArgs {
     pub strategy: Option<Strategy>,
     pub friction: Option<f64>,
     pub cutoff_hz: Option<f64>,
-    pub residual_vectors: bool,
+    pub residual_vectors: Option<bool>,
     pub k_linear: Option<f64>,
     pub k_cubic: Option<f64>,
 }
@@ -163,7 +163,7 @@ impl SuperElementArgs {
         self.strategy.is_some()
             || self.friction.is_some()
             || self.cutoff_hz.is_some()
-            || self.residual_vectors
+            || self.residual_vectors.is_some()
             || self.k_linear.is_some()
             || self.k_cubic.is_some()
     }
@@ -173,7 +173,7 @@ impl SuperElementArgs {
         spec.superelements = self.strategy.or(spec.superelements);
         spec.superelement_friction = self.friction.or(spec.superelement_friction);
         spec.cutoff_frequency_hz = self.cutoff_hz.or(spec.cutoff_frequency_hz);
-        spec.residual_vectors |= self.residual_vectors;
+        spec.residual_vectors = self.residual_vectors.or(spec.residual_vectors);
         spec.k_linear = self.k_linear.or(spec.k_linear);
         spec.k_cubic = self.k_cubic.or(spec.k_cubic);
     }

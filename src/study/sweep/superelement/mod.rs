@@ -49,9 +49,12 @@ pub struct SuperElementSettings {
     pub contact: CubicContact,
     pub max_frequency_hz: f64,
     pub unstable_threshold: f64,
-    /// Residual vectors of the band's modes in each super-element
-    /// ([`reduce::residual_vectors`]).
+    /// Residual vectors of the band's modes at mu_SE in each super-element
+    /// ([`reduce::residual_vectors`]): the study's `reduction.residual_vectors`, by default
+    /// wherever the interior holds no contact.
     pub residual_vectors: bool,
+    /// Whether the study asked for them (a super-element that cannot have them warns).
+    pub residual_vectors_asked: bool,
 }
 
 /// The super-element in use, with what it needs to be expanded and moved.
@@ -190,7 +193,12 @@ impl<'rt> SuperElementModel<'rt> {
             },
             max_frequency_hz,
             unstable_threshold: sweep.analysis.unstable_threshold,
-            residual_vectors: reduction.residual_vectors,
+            // Only a contact-free interior is symmetric (no kept friction inside) and its
+            // basis the same at every mu, so only there are they made by default: from one
+            // friction value's modes, mu_SE's, whatever the strategy, they keep every
+            // strategy's basis the one basis (issue 32's check).
+            residual_vectors: reduction.residual_vectors.unwrap_or(contact_free),
+            residual_vectors_asked: reduction.residual_vectors == Some(true),
         };
         Ok(SuperElementModel {
             mesh_hash: hash::mesh_hash(&base.model.mesh),
@@ -309,8 +317,8 @@ impl<'rt> SuperElementModel<'rt> {
             slipping,
         });
         if let Some(residual) = residual {
-            self.add_residual_vectors(comm, mu, residual)?;
-        } else if self.settings.residual_vectors {
+            self.add_residual_vectors(comm, residual)?;
+        } else if self.settings.residual_vectors_asked {
             tracing::warn!(
                 "mu {mu}: no residual vectors: the super-element's interior is unsymmetric \
                  (a kept pair's friction) or has linear constraints"
