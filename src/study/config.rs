@@ -1219,8 +1219,6 @@ mod tests {
         );
     }
 
-    /// Kept pairs to reduce and their grids: read, written only when not the default,
-    /// handed to the interface, and a wrong grid refused naming the pair's key.
     /// `residual_vectors`: absent (the default: made wherever the interior holds no contact),
     /// asked for or left out; a study written before it was a default still reads.
     #[test]
@@ -1240,6 +1238,8 @@ mod tests {
         }
     }
 
+    /// Kept pairs to reduce and their grids: read, written only when not the default,
+    /// handed to the interface, and a wrong grid refused naming the pair's key.
     #[test]
     fn reduced_kept_pairs_and_their_grids_read_and_are_checked() {
         let r: ReductionSpec = toml::from_str("contact_nodes_per_pad = 6\n").unwrap();
