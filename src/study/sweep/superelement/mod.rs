@@ -12,6 +12,7 @@
 //! super-element of a sweep shares.
 
 mod dense;
+mod expansion;
 mod residual;
 
 use super::full::{mesh_part, FullModel};
@@ -26,7 +27,7 @@ use crate::contact::{self, PointState, SlipHistory, Status};
 use crate::mesh::hash;
 use crate::mesh::Mesh;
 use crate::model::Model;
-use crate::petsc::{Comm, DenseMatrix, Vector};
+use crate::petsc::{Comm, Vector};
 use crate::reduce::assembly::CubicContact;
 use crate::reduce::dense_path::DenseState;
 use crate::reduce::{self, Decision, LocalBasis, ReducedInterface, Step, Strategy};
@@ -38,6 +39,8 @@ use crate::study::StudyError;
 use faer::Mat;
 use num_complex::Complex64;
 use std::time::Instant;
+
+pub use expansion::frequency_error_estimate;
 
 /// What the super-element sweep is asked to do.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -676,54 +679,21 @@ impl<'rt> FrictionModel<'rt> for SuperElementModel<'rt> {
             .operators()
             .dofs
             .displacements(&static_vector.gather_all()?);
-        let residuals = {
-            let mut shapes = DenseMatrix::zeros(comm, local_rows, 2 * m.max(1))?;
-            shapes.write_local(|i, c| if c < 2 * m { expanded[(i, c + 1)] } else { 0.0 })?;
-            // The tangent the modes are checked against: the reduced-interface model's at
-            // its own equilibrium at this mu where it was solved, the one the super-element's
-            // K_r is the projection of. At the expanded dense static instead, a kept Coulomb
-            // point a hair from opening or sticking there flips its state, and its penalty
-            // (thousands of times a mode's stiffness, on a node of almost no mass) swamped
-            // the residual: estimates of 1e3 on a reused tiny-caliper super-element whose
-            // modes were within 1.4 %. The single super-element away from mu_SE has no such
-            // equilibrium (not solving it is its point): the expanded static stands in.
-            // A super-element that carries the slip history: the dense static's, on its
-            // boundary pairs' points.
-            let (u_tangent, slip_tangent) = match &choice.equilibrium {
-                Some(e) => (&e.displacement, &e.slip_after),
-                None => (&u_static, &slip_static),
-            };
-            let (ku, mu_shapes, diagonal) =
-                self.base
-                    .with_tangent(comm, mu, u_tangent, slip_tangent, |operators| {
-                        let ku = operators.stiffness.mult_dense(&shapes)?.local_values()?;
-                        let mu_shapes = operators.mass.mult_dense(&shapes)?.local_values()?;
-                        let diagonal = operators.mass.diagonal()?.read()?.to_vec();
-                        Ok((ku, mu_shapes, diagonal))
-                    })?;
-            // Per mode, in the mass-weighted norms of structural dynamics (D = diag M):
-            // eps = |r|_D^-1 / (|lambda|^2 |u|_D), the share of the mode's inertia force left
-            // unbalanced in the reduced-interface model. The reduced contact and disc nodes
-            // carry no mass (D = 0): their rows, the ties' static balance, are left out.
-            // (The Euclidean residual is useless here: the stiff ties' rows dominate it.)
-            let mut sums = vec![0.0; 2 * m];
-            for j in 0..m {
-                let l2 = dense.lambdas[j].powi(2);
-                for (i, &d) in diagonal.iter().enumerate().filter(|(_, &d)| d > 0.0) {
-                    let k = Complex64::new(ku[(i, 2 * j)], ku[(i, 2 * j + 1)]);
-                    let mm = Complex64::new(mu_shapes[(i, 2 * j)], mu_shapes[(i, 2 * j + 1)]);
-                    let u = Complex64::new(expanded[(i, 1 + 2 * j)], expanded[(i, 2 + 2 * j)]);
-                    sums[2 * j] += (k + l2 * mm).norm_sqr() / d;
-                    sums[2 * j + 1] += d * u.norm_sqr();
-                }
-            }
-            comm.sum_in_place(&mut sums);
-            (0..m)
-                .map(|j| {
-                    sums[2 * j].sqrt() / (dense.lambdas[j].norm_sqr() * sums[2 * j + 1].sqrt())
-                })
-                .collect::<Vec<f64>>()
+        // The tangent the modes are checked against (see [`expansion::residuals`]): the
+        // reduced-interface model's own equilibrium at this mu where it was solved, else
+        // the expanded dense static.
+        let (u_tangent, slip_tangent) = match &choice.equilibrium {
+            Some(e) => (&e.displacement, &e.slip_after),
+            None => (&u_static, &slip_static),
         };
+        let residuals = expansion::residuals(
+            &mut self.base,
+            comm,
+            mu,
+            (u_tangent, slip_tangent),
+            &expanded,
+            &dense.lambdas,
+        )?;
 
         // Unstable shapes on the mesh (rank 0); the flags travel with the eigenvalues.
         let mut flags = vec![0.0; m];
@@ -752,10 +722,6 @@ impl<'rt> FrictionModel<'rt> for SuperElementModel<'rt> {
                 // The pairs' parts from the expanded shape, in the reduced-interface model's
                 // pairs (the boundary's laws are theirs), about the equilibrium the modes'
                 // residuals are checked at (see there).
-                let (u_tangent, slip_tangent) = match &choice.equilibrium {
-                    Some(e) => (&e.displacement, &e.slip_after),
-                    None => (&u_static, &slip_static),
-                };
                 let growth = self.base.pair_growth(
                     &mode,
                     &self.base.model.pairs_at(mu),
@@ -916,22 +882,6 @@ impl<'rt> FrictionModel<'rt> for SuperElementModel<'rt> {
             fields,
         })
     }
-}
-
-/// The relative frequency error of a Rayleigh-Ritz mode at f whose expansion leaves the
-/// mass-weighted residual eps, when what the basis misses lies above f_c: with the error e
-/// of the shape in modes at omega_e >= omega_c, r = (omega_e^2 - omega^2) M e, so
-/// |r|_M^-1 = eps omega^2 |u|_M gives |e|_M, and the Rayleigh quotient's error
-/// delta(omega^2) = (omega_e^2 - omega^2) |e|_M^2 <= eps^2 omega^4 / (omega_c^2 - omega^2).
-/// Half of that relative to omega^2 is the frequency's. An upper estimate (the missing
-/// content sits at or above f_c), first-order only where friction makes the problem
-/// non-self-adjoint; infinite for a mode at or above the cut-off.
-pub fn frequency_error_estimate(eps: f64, frequency_hz: f64, cutoff_hz: f64) -> f64 {
-    let (f2, c2) = (frequency_hz * frequency_hz, cutoff_hz * cutoff_hz);
-    if c2 <= f2 {
-        return f64::INFINITY;
-    }
-    0.5 * eps * eps * f2 / (c2 - f2)
 }
 
 /// A non-root rank's report: nothing it holds is written.
