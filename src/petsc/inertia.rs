@@ -99,7 +99,7 @@ fn factorise<'rt>(
     // SAFETY: out-pointer to a local.
     check(unsafe { sys::KSPCreate(comm.raw, &mut ksp) })?;
     let solver = Ksp(ksp);
-    let mut negative: sys::PetscInt = 0;
+    let negative;
     // SAFETY: live KSP and matrix; the factor matrix belongs to the PC (not destroyed here);
     // the prefix is NUL-terminated.
     unsafe {
@@ -160,14 +160,24 @@ fn factorise<'rt>(
                 workspace: (largest[0] >= 0.0).then_some(largest[0] as sys::PetscInt),
             });
         }
-        check(sys::MatGetInertia(
-            factor,
-            &mut negative,
-            std::ptr::null_mut(),
-            std::ptr::null_mut(),
-        ))?;
+        negative = negative_pivots(factor)?;
     }
     Ok(Attempt::Counted(negative))
+}
+
+/// The negative pivots of a factorised LDL^T (MUMPS's global count: the same on every rank).
+///
+/// # Safety
+/// `factor` is a live, factorised matrix (in parallel, MUMPS's with ICNTL(13) = 1).
+pub(super) unsafe fn negative_pivots(factor: sys::Mat) -> Result<sys::PetscInt> {
+    let mut negative: sys::PetscInt = 0;
+    check(sys::MatGetInertia(
+        factor,
+        &mut negative,
+        std::ptr::null_mut(),
+        std::ptr::null_mut(),
+    ))?;
+    Ok(negative)
 }
 
 /// Owns a KSP for the span of one function, so every early return destroys it.

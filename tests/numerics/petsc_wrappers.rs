@@ -35,6 +35,7 @@ pub const CHECKS: &[Check] = checks![
     "laplacian_1d_ghep_interval" => laplacian_1d_ghep_interval,
     "laplacian_3d_ghep_target" => laplacian_3d_ghep_target,
     "inertia_counts_laplacian_3d_multiplicities" => inertia_counts,
+    "inertia_counts_on_the_solvers_own_factorisation" => inertia_counts_on_the_solver,
     "modes_band_single_shift_laplacian_3d" => modes_band_single_shift,
     "modes_band_falls_back_to_slicing" => modes_band_falls_back,
     "lowest_modes_of_a_held_model_by_one_run_and_one_count" => lowest_counted,
@@ -272,15 +273,27 @@ fn inertia_counts(rt: &Runtime) -> Result<Vec<f64>, String> {
     if groups.iter().take(12).all(|g| g.1 == 1) {
         return Err("the first clusters should hold multiple eigenvalues".into());
     }
-    let mut counts = vec![eigenvalues_below(comm, &a, &b, 0.5 * exact[0]).map_err(e)? as f64];
+    closed_form_counts(&exact, |sigma| {
+        eigenvalues_below(comm, &a, &b, sigma).map_err(e)
+    })
+}
+
+/// The counts of `count_at` below half the lowest eigenvalue of `exact` (none) and halfway
+/// between each of its first 12 clusters of equal eigenvalues and the next (the closed
+/// form's, every copy included), as numbers.
+fn closed_form_counts(
+    exact: &[f64],
+    mut count_at: impl FnMut(f64) -> Result<usize, String>,
+) -> Result<Vec<f64>, String> {
+    let mut counts = vec![count_at(0.5 * exact[0])? as f64];
     if counts[0] != 0.0 {
         return Err(format!("{} eigenvalues below half the lowest", counts[0]));
     }
     let mut below = 0;
-    for pair in groups.windows(2).take(12) {
+    for pair in clusters(exact).windows(2).take(12) {
         below += pair[0].1;
         let sigma = 0.5 * (pair[0].0 + pair[1].0);
-        let count = eigenvalues_below(comm, &a, &b, sigma).map_err(e)?;
+        let count = count_at(sigma)?;
         if count != below {
             return Err(format!(
                 "{count} eigenvalues below {sigma}, the closed form has {below}"
@@ -289,6 +302,88 @@ fn inertia_counts(rt: &Runtime) -> Result<Vec<f64>, String> {
         counts.push(count as f64);
     }
     Ok(counts)
+}
+
+/// The shift-and-invert solver's own factorisation counts as a fresh one does: on the 12^3
+/// Laplacian, after a solve for the 4 eigenvalues nearest a target below the spectrum (as
+/// the lowest modes' run has it; at a zero target SLEPc factorises A itself, and the first
+/// move makes a new matrix, whose factorisation has MUMPS's defaults and, on 2 ranks, no
+/// inertia), the counts of [`closed_form_counts`]. The counts move the transform's shift
+/// away from the target, so a search after them for the next 6 pairs (deflating the 4
+/// found) must find what the same search finds on a twin solver that never counted,
+/// eigenvalues of the closed form: the solve puts the factorisation back at the target
+/// first.
+fn inertia_counts_on_the_solver(rt: &Runtime) -> Result<Vec<f64>, String> {
+    let comm = rt.world();
+    let (a, b, exact) = laplacian_3d(comm, 12)?;
+    let options = EigenOptions {
+        problem: EigenProblem::HermitianGeneralized,
+        spectrum: Spectrum::NearTarget {
+            target: -0.5 * exact[0],
+            count: 4,
+        },
+        tolerance: 1e-12,
+        linear: LinearMethod::Direct {
+            package: DirectPackage::Mumps,
+            factorization: Factorization::Cholesky,
+        },
+        inertia: true,
+        ..Default::default()
+    };
+    let mut eps = EigenSolver::new(comm, &a, Some(&b), &options).map_err(e)?;
+    let first = eps.solve().map_err(e)?;
+    if first.converged < 4 {
+        return Err(format!("{} of 4 converged", first.converged));
+    }
+    let mut counts = closed_form_counts(&exact, |sigma| {
+        eps.eigenvalues_below(comm, sigma)
+            .map_err(e)?
+            .ok_or_else(|| format!("the solver's factorisation gave no count at {sigma}"))
+    })?;
+    let values = search_after_the_first(&mut eps, &a)?;
+    // The same two solves on a twin that never counted: the same pairs, so the counts left
+    // the target's factorisation as they found it.
+    let mut twin = EigenSolver::new(comm, &a, Some(&b), &options).map_err(e)?;
+    twin.solve().map_err(e)?;
+    let expected = search_after_the_first(&mut twin, &a)?;
+    for (f, x) in values.iter().zip(&expected) {
+        if relative(*f, *x) > 1e-9 {
+            return Err(format!(
+                "after the counts: eigenvalue {f}, without them {x}"
+            ));
+        }
+        if !exact.iter().any(|v| relative(*f, *v) <= 1e-9) {
+            return Err(format!(
+                "after the counts: {f} is no eigenvalue of the closed form"
+            ));
+        }
+    }
+    counts.extend(values);
+    Ok(counts)
+}
+
+/// The next 6 pairs nearest the target after a solve's first 4 (deflated), sorted.
+fn search_after_the_first<'rt>(
+    eps: &mut EigenSolver<'rt>,
+    a: &Matrix<'rt>,
+) -> Result<Vec<f64>, String> {
+    let (template, _) = a.vectors().map_err(e)?;
+    let found: Vec<Vector> = (0..4)
+        .map(|i| eps.pair(i, &template).map(|p| p.1))
+        .collect::<Result<_, _>>()
+        .map_err(e)?;
+    let refs: Vec<&Vector> = found.iter().collect();
+    eps.search_beyond(&refs, 6).map_err(e)?;
+    let next = eps.solve().map_err(e)?;
+    if next.converged < 6 {
+        return Err(format!("{} of the next 6 converged", next.converged));
+    }
+    let mut values: Vec<f64> = (0..6)
+        .map(|i| eps.value(i).map(|v| v.re))
+        .collect::<Result<_, _>>()
+        .map_err(e)?;
+    values.sort_by(f64::total_cmp);
+    Ok(values)
 }
 
 /// `real_modes` over a band of the 12^3 Laplacian (B = 2 I) whose top lies between the 10th
