@@ -307,9 +307,13 @@ impl<'rt> EigenSolver<'rt> {
             check(sys::EPSGetST(self.raw, &mut st))?;
             check(sys::STGetKSP(st, &mut ksp))?;
             check(sys::KSPGetPC(ksp, &mut pc))?;
+            // The same on every rank: the options and the solver type are. A PC that does
+            // not factorise has no factor matrix to ask for.
+            if !cholesky(pc)? {
+                return Ok(None);
+            }
             check(sys::PCFactorGetMatrix(pc, &mut factor))?;
-            // The same on every rank: the options and the solver type are.
-            if !(cholesky(pc)? && mumps(factor)?) {
+            if !mumps(factor)? {
                 return Ok(None);
             }
             let mut icntl13: sys::PetscInt = 0;
