@@ -95,8 +95,8 @@ pub struct EigenSolver<'rt> {
     pub(super) raw: sys::EPS,
     summary: Option<EigenSummary>,
     requested: usize,
-    /// The shift a [`Self::eigenvalues_below`] left the transform at, to be undone before
-    /// the next solve.
+    /// Whether [`Self::eigenvalues_below`] moved the transform's shift off the target, to
+    /// be put back before the next solve.
     moved: bool,
     _rt: PhantomData<&'rt Runtime>,
 }
