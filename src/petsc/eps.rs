@@ -387,6 +387,18 @@ impl<'rt> EigenSolver<'rt> {
         Ok(Complex64::new(re, im))
     }
 
+    /// The spectral transform's shift: the target, or where [`Self::eigenvalues_below`] last
+    /// moved it until the next solve puts it back.
+    pub fn shift(&self) -> Result<f64> {
+        let (mut st, mut sigma) = (std::ptr::null_mut(), 0.0);
+        // SAFETY: live EPS; out-pointers to locals.
+        unsafe {
+            check(sys::EPSGetST(self.raw, &mut st))?;
+            check(sys::STGetShift(st, &mut sigma))?;
+        }
+        Ok(sigma)
+    }
+
     /// Relative residual |A x - lambda B x| / |lambda x| of pair i (collective).
     pub fn relative_error(&self, i: usize) -> Result<f64> {
         let i = self.check_index(i)?;
