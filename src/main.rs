@@ -73,6 +73,11 @@ struct StudyFlags {
     /// (study key `analysis.refine_points`; the inserted points are marked in sweep.json).
     #[arg(long, value_name = "POINTS")]
     refine: Option<usize>,
+    /// The CEA windows' solver: block (block Krylov-Schur on multi-right-hand-side solves of
+    /// each window's MUMPS LU, the default) or krylov-schur (SLEPc's, one vector at a time);
+    /// study key `analysis.cea_solver`.
+    #[arg(long, value_enum, value_name = "SOLVER")]
+    cea_solver: Option<squeal::analysis::cea::WindowSolver>,
     /// Write the study (after the command-line changes; for `study`, its [comparison] plan
     /// filled in) to this TOML file and stop: a starting point for your own.
     #[arg(long)]
@@ -90,6 +95,7 @@ impl StudyFlags {
             contact_edge_points: self.contact_edge_points,
             contributions_of_every_mode: self.contributions_of_every_mode,
             refine_points: self.refine,
+            cea_solver: self.cea_solver,
             ..Default::default()
         };
         (args, self.study, self.write_study)

@@ -24,8 +24,9 @@
 //! small residual stand for as many distinct eigenvalues, so none was missed), or returns
 //! `None` when the subspace reaches its limit first: the caller then solves another way.
 
+use super::blocks::{orthonormalise, start_value, sum_identically, times};
 use super::replicated_factor::ReplicatedFactor;
-use crate::petsc::{Comm, DenseMatrix, Matrix, Result};
+use crate::petsc::{Comm, Matrix, Result};
 use faer::{Accum, Mat, MatRef, Par, Side};
 
 /// Vectors a block step takes: a multi-right-hand-side solve and a pass over M pay for 32
@@ -111,7 +112,7 @@ pub fn lowest_modes(
     let first = factor.first_row();
     let mut w = Mat::from_fn(local, b, |i, j| start_value(first + i, j));
     let mut mw = times(comm, m, w.as_ref())?;
-    if orthonormalise(comm, &mut w, &mut mw)?.is_none() {
+    if orthonormalise(comm, &mut w, Some(&mut mw))?.is_none() {
         return Ok(None);
     }
     let (mut v, mut mv) = (vec![w], vec![mw]);
@@ -144,7 +145,7 @@ pub fn lowest_modes(
             column += &c;
         }
         let mut mw = times(comm, m, w.as_ref())?;
-        let Some(r) = orthonormalise(comm, &mut w, &mut mw)? else {
+        let Some(r) = orthonormalise(comm, &mut w, Some(&mut mw))? else {
             tracing::debug!("block Lanczos: the basis broke down at step {}", j + 1);
             return Ok(None);
         };
@@ -250,65 +251,4 @@ fn checked(
         .map(|q| (norms[q] / norms[count + q]).sqrt())
         .collect();
     Ok((values, residuals))
-}
-
-/// W and MW = M W made M-orthonormal in place by Cholesky QR, twice (once leaves errors of
-/// cond(W)^2 eps; twice, of eps, while cond(W) is below about 1e7). Returns R with
-/// W_before = W_after R, or `None` when W's columns are (nearly) dependent.
-fn orthonormalise(comm: Comm<'_>, w: &mut Mat<f64>, mw: &mut Mat<f64>) -> Result<Option<Mat<f64>>> {
-    let b = w.ncols();
-    let mut r = Mat::<f64>::identity(b, b);
-    for pass in 0..2 {
-        let mut g = w.transpose() * &*mw;
-        sum_identically(comm, &mut g);
-        let g = Mat::from_fn(b, b, |p, q| 0.5 * (g[(p, q)] + g[(q, p)]));
-        let Ok(llt) = g.llt(Side::Lower) else {
-            return Ok(None);
-        };
-        let l = llt.L();
-        // A second pass that has much left to do means the first lost too much to trust.
-        if pass == 1 {
-            let off = (0..b)
-                .flat_map(|p| (0..b).map(move |q| (p, q)))
-                .map(|(p, q)| (l[(p, q)] - if p == q { 1.0 } else { 0.0 }).abs())
-                .fold(0.0f64, f64::max);
-            if off > 1e-6 {
-                return Ok(None);
-            }
-        }
-        let mut l_inv = Mat::<f64>::identity(b, b);
-        l.solve_lower_triangular_in_place(l_inv.as_mut());
-        *w = &*w * l_inv.transpose();
-        *mw = &*mw * l_inv.transpose();
-        r = l.transpose() * &r;
-    }
-    Ok(Some(r))
-}
-
-/// A x for a block x of this rank's rows. Collective.
-fn times(comm: Comm<'_>, a: &Matrix<'_>, x: MatRef<'_, f64>) -> Result<Mat<f64>> {
-    let mut dense = DenseMatrix::zeros(comm, x.nrows(), x.ncols())?;
-    dense.write_local(|i, j| x[(i, j)])?;
-    a.mult_tall(&dense)?.local_values()
-}
-
-/// The ranks' sum of a small matrix, with rank 0's bits on every rank (collective).
-fn sum_identically(comm: Comm<'_>, a: &mut Mat<f64>) {
-    let (rows, cols) = (a.nrows(), a.ncols());
-    let mut values: Vec<f64> = (0..cols)
-        .flat_map(|j| (0..rows).map(move |i| (i, j)))
-        .map(|(i, j)| a[(i, j)])
-        .collect();
-    comm.sum_identically(&mut values);
-    *a = Mat::from_fn(rows, cols, |i, j| values[j * rows + i]);
-}
-
-/// A start vector's entry, uniform in [-1, 1) from its global row and column (splitmix64):
-/// the same block on any number of ranks, so that one and two ranks take the same steps.
-fn start_value(row: usize, column: usize) -> f64 {
-    let mut z = ((row as u64) << 6 | column as u64).wrapping_add(0x9E37_79B9_7F4A_7C15);
-    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    z ^= z >> 31;
-    (z >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
 }

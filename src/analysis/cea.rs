@@ -9,10 +9,12 @@
 //! see [`lambda_of`]). Friction couples two modes into a pair omega^2 = x +/- i y, whose
 //! lambdas have real parts -/+ a at one frequency: the mode with a > 0 grows (squeal).
 
+pub use super::cea_window::WindowSolver;
+use super::cea_window::{Window, WindowRequest};
 use super::rigid;
 use crate::petsc::{
-    Comm, EigenOptions, EigenProblem, EigenSolver, LeftSolver, LinearMethod, Matrix, PetscError,
-    QuadraticEigenSolver, QuadraticOptions, Spectrum, Structure, Vector,
+    Comm, LinearMethod, Matrix, PetscError, QuadraticEigenSolver, QuadraticOptions, Structure,
+    Vector,
 };
 use num_complex::Complex64;
 use std::f64::consts::PI;
@@ -67,6 +69,8 @@ pub struct CeaOptions {
     /// (from 0 when it is not positive): one rank's share of a band split between ranks
     /// ([`crate::reduce::dense_cea`]). A share holding none is no error. `None`: the band.
     pub strip: Option<(f64, f64)>,
+    /// Which solver each window uses ([`WindowSolver`]).
+    pub solver: WindowSolver,
 }
 
 impl Default for CeaOptions {
@@ -81,6 +85,7 @@ impl Default for CeaOptions {
             expected_rigid_modes: None,
             left_vectors: false,
             strip: None,
+            solver: WindowSolver::default(),
         }
     }
 }
@@ -436,7 +441,7 @@ pub fn new_across_edge(earlier: &[Complex64], later: &[Complex64], edge: f64) ->
 /// log. Collective.
 fn left_vectors<'rt>(
     comm: Comm<'rt>,
-    eps: &EigenSolver<'rt>,
+    eps: &Window<'rt>,
     (stiffness, mass): (&Matrix<'rt>, &Matrix<'rt>),
     target: f64,
     found: &[(usize, Complex64)],
@@ -461,14 +466,11 @@ fn left_vectors<'rt>(
     let started = std::time::Instant::now();
     // A left solve that fails costs the sensitivities, never the modes (PETSc's errors are
     // every rank's here: the same solve on the same operator).
-    let left = match LeftSolver::solve(
+    let left = match eps.left(
         comm,
-        eps,
         mass,
         target,
-        count,
-        (2 * count).max(count + 16),
-        options.tolerance,
+        (count, (2 * count).max(count + 16), options.tolerance),
     ) {
         Ok(left) => left,
         Err(e) => {
@@ -614,18 +616,17 @@ pub fn undamped<'rt>(
         // SLEPc's default subspace is twice the count; past the base window, count + 16
         // converges faster (medium: 23 s instead of 27 s for a 48-pair window) with 32
         // vectors fewer (the industrial memory peak lies elsewhere and did not move).
-        let eps_options = EigenOptions {
-            problem: EigenProblem::NonHermitianGeneralized,
-            spectrum: Spectrum::NearTarget { target, count },
+        let request = WindowRequest {
+            target,
+            count,
+            subspace: (2 * window).max(count + 16).min(size),
             tolerance: options.tolerance,
-            linear: options.linear.clone(),
-            subspace: Some((2 * window).max(count + 16).min(size)),
-            ..Default::default()
+            linear: &options.linear,
+            solver: options.solver,
         };
         let started = std::time::Instant::now();
-        let mut eps = EigenSolver::new(comm, stiffness, Some(mass), &eps_options)?;
-        let summary = match eps.solve() {
-            Ok(s) => s,
+        let eps = match Window::solve(comm, stiffness, mass, request) {
+            Ok(w) => w,
             // A target that falls on an eigenvalue makes K - sigma M singular: nudge it.
             Err(err) if retries < 3 => {
                 tracing::debug!("CEA target {target:e} failed ({err}); nudging it");
@@ -635,15 +636,16 @@ pub fn undamped<'rt>(
             }
             Err(err) => return Err(err.into()),
         };
-        let mut found = Vec::with_capacity(summary.converged);
-        for i in 0..summary.converged {
+        let converged = eps.converged()?;
+        let mut found = Vec::with_capacity(converged);
+        for i in 0..converged {
             found.push((i, eps.value(i)?));
         }
         let radius = found
             .iter()
             .map(|f| (f.1 - target).norm())
             .fold(0.0, f64::max);
-        let everything = summary.converged >= size;
+        let everything = converged >= size;
         // A target on an eigenvalue (a part of the band starts at a fixed omega^2, where a
         // mode may sit) makes K - sigma M singular to round-off without an error: the
         // inverted operator's one huge eigenvalue swamps the others, whose residuals came
@@ -704,12 +706,20 @@ pub fn undamped<'rt>(
             Some(earlier) => new_across_edge(earlier, &values, lower),
             None => vec![true; values.len()],
         };
-        let mut kept = Vec::with_capacity(values.len());
-        for (&(i, value), _) in candidates.iter().zip(&new).filter(|(_, &n)| n) {
+        let keep: Vec<(usize, Complex64)> = candidates
+            .iter()
+            .zip(&new)
+            .filter(|(_, &n)| n)
+            .map(|(&c, _)| c)
+            .collect();
+        let indices: Vec<usize> = keep.iter().map(|k| k.0).collect();
+        let errors = eps.relative_errors(comm, (stiffness, mass), &indices)?;
+        let mut kept = Vec::with_capacity(keep.len());
+        for (&(i, value), error) in keep.iter().zip(errors) {
             kept.push(value);
-            let (_, mut re, mut im) = eps.pair(i, &template)?;
+            let (mut re, mut im) = eps.pair(i, &template)?;
             normalise(&mut re, &mut im, comm)?;
-            accepted.push((value, eps.relative_error(i)?, re, im, None));
+            accepted.push((value, error, re, im, None));
         }
         // One line per shift: on an industrial model each takes minutes. Converged and kept
         // differ: a shift's pairs beyond its strip, or above the band, are not kept.
@@ -719,7 +729,7 @@ pub fn undamped<'rt>(
              ({:.1} s)",
             targets.len(),
             hz(target),
-            summary.converged,
+            converged,
             accepted.len() - first_accepted,
             hz(lower),
             hz(upper.min(top)),

@@ -1,8 +1,11 @@
 //! What is solved on a model of any size: real modes, static equilibrium, complex
 //! eigenvalues. Every analysis takes assembled operators, not meshes.
 
+pub mod block_krylov_schur;
 pub mod block_lanczos;
+pub mod blocks;
 pub mod cea;
+pub mod cea_window;
 pub mod contact_edge;
 pub mod continuation;
 pub mod growth;

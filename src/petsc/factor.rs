@@ -37,6 +37,19 @@ impl<'rt> FactoredMatrix<'rt> {
         package: DirectPackage,
         factorization: Factorization,
     ) -> Result<FactoredMatrix<'rt>> {
+        Self::with_prefix(comm, a, package, factorization, None)
+    }
+
+    /// [`Self::new`] with an options prefix, so that options given with it (`-st_mat_mumps_*`
+    /// for the CEA's shift-and-invert factorisation) reach this factorisation, as they
+    /// reach the solver whose work it does.
+    pub fn with_prefix(
+        comm: Comm<'rt>,
+        a: &Matrix<'rt>,
+        package: DirectPackage,
+        factorization: Factorization,
+        prefix: Option<&std::ffi::CStr>,
+    ) -> Result<FactoredMatrix<'rt>> {
         same_comm(a.raw.cast(), comm)?;
         let (m, n) = a.size()?;
         if m != n {
@@ -63,6 +76,9 @@ impl<'rt> FactoredMatrix<'rt> {
                     factorization,
                 },
             )?;
+            if let Some(prefix) = prefix {
+                check(sys::KSPSetOptionsPrefix(ksp, prefix.as_ptr()))?;
+            }
             check(sys::KSPSetFromOptions(ksp))?;
             check(sys::KSPSetUp(ksp))?;
         }
@@ -82,6 +98,20 @@ impl<'rt> FactoredMatrix<'rt> {
     /// X = A^-1 B for a dense block B laid out by rows like A (collective; one MatMatSolve
     /// on the factor). X is a new dense matrix laid out like B.
     pub fn solve_block(&self, rhs: &DenseMatrix<'rt>) -> Result<DenseMatrix<'rt>> {
+        self.solve_block_with(rhs, false)
+    }
+
+    /// X = A^-T B (collective; one MatMatSolveTranspose on the same factors: MUMPS solves
+    /// with the transpose without factorising again).
+    pub fn solve_block_transposed(&self, rhs: &DenseMatrix<'rt>) -> Result<DenseMatrix<'rt>> {
+        self.solve_block_with(rhs, true)
+    }
+
+    fn solve_block_with(
+        &self,
+        rhs: &DenseMatrix<'rt>,
+        transposed: bool,
+    ) -> Result<DenseMatrix<'rt>> {
         same_comm(rhs.raw.cast(), self.comm)?;
         if !self.comm.all(rhs.ownership_range()? == self.rows) {
             return Err(PetscError::Invalid(
@@ -103,7 +133,11 @@ impl<'rt> FactoredMatrix<'rt> {
                 &mut x,
             ))?;
             let x = DenseMatrix::from_raw(self.comm, x);
-            check(sys::MatMatSolve(factor, rhs.raw, x.raw))?;
+            if transposed {
+                check(sys::MatMatSolveTranspose(factor, rhs.raw, x.raw))?;
+            } else {
+                check(sys::MatMatSolve(factor, rhs.raw, x.raw))?;
+            }
             Ok(x)
         }
     }

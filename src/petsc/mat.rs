@@ -41,6 +41,9 @@ pub enum Structure {
     Same,
     Subset,
     Different,
+    /// Not known: PETSc checks (the same pattern is added in place, any other through a
+    /// matrix of the union's pattern), as SLEPc's spectral transform does by default.
+    Unknown,
 }
 
 impl Structure {
@@ -49,6 +52,7 @@ impl Structure {
             Structure::Same => sys::SAME_NONZERO_PATTERN,
             Structure::Subset => sys::SUBSET_NONZERO_PATTERN,
             Structure::Different => sys::DIFFERENT_NONZERO_PATTERN,
+            Structure::Unknown => sys::UNKNOWN_NONZERO_PATTERN,
         }
     }
 }

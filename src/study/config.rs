@@ -89,6 +89,15 @@ pub struct AnalysisSpec {
     /// one that moves a mode's frequency by more than 5 %). 0: none.
     #[serde(default, skip_serializing_if = "is_zero")]
     pub refine_points: usize,
+    /// Which solver the CEA's windows use: "block" (block Krylov-Schur on multi-right-hand-
+    /// side solves of the window's MUMPS LU, SLEPc's Krylov-Schur where it cannot) or
+    /// "krylov-schur" (SLEPc's, one vector at a time). The same modes either way.
+    #[serde(default, skip_serializing_if = "is_default_solver")]
+    pub cea_solver: crate::analysis::cea::WindowSolver,
+}
+
+fn is_default_solver(s: &crate::analysis::cea::WindowSolver) -> bool {
+    *s == crate::analysis::cea::WindowSolver::default()
 }
 
 fn is_false(b: &bool) -> bool {
@@ -112,6 +121,7 @@ impl Default for AnalysisSpec {
             contact_edge_points: 0,
             contributions_of_every_mode: false,
             refine_points: 0,
+            cea_solver: Default::default(),
         }
     }
 }
@@ -1217,6 +1227,32 @@ mod tests {
             e.contains("pad.toml") && e.contains("pad_coupling") && e.contains("share"),
             "{e}"
         );
+    }
+
+    /// `cea_solver`: absent (the block solver), or either solver by name, written only when
+    /// not the default (so a study's hash does not change for studies that do not set it);
+    /// another name is refused, naming what it may be.
+    #[test]
+    fn the_cea_solver_reads_by_name_and_is_written_only_when_chosen() {
+        use crate::analysis::cea::WindowSolver;
+        for (text, expected) in [
+            ("", WindowSolver::Block),
+            ("cea_solver = \"block\"\n", WindowSolver::Block),
+            ("cea_solver = \"krylov-schur\"\n", WindowSolver::KrylovSchur),
+        ] {
+            let a: AnalysisSpec = toml::from_str(text).unwrap();
+            assert_eq!(a.cea_solver, expected, "{text}");
+            let written = toml::to_string(&a).unwrap();
+            assert_eq!(
+                written.contains("cea_solver"),
+                expected != WindowSolver::Block,
+                "{written}"
+            );
+        }
+        let e = toml::from_str::<AnalysisSpec>("cea_solver = \"arnoldi\"\n")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("krylov-schur"), "{e}");
     }
 
     /// `residual_vectors`: absent (the default: made wherever the interior holds no contact),

@@ -138,6 +138,64 @@ fn sweep_of_the_builtin_brake_writes_a_complete_study() {
     }
 }
 
+/// The CEA's two window solvers on the spring-held brake at mu 0.6 (2 ranks): block
+/// Krylov-Schur (the default, its windows said on the log) and SLEPc's Krylov-Schur
+/// (`--cea-solver krylov-schur`) give the same modes, each eigenvalue to 1e-8 of its modulus
+/// (both converge the shift-and-invert problem to 1e-10), the same unstable flags, and the
+/// unstable modes' friction sensitivities, made of left vectors each solver finds its own
+/// way, to 1e-6 of their modulus (first-order quantities over y^H M x).
+#[test]
+fn both_cea_solvers_give_the_same_modes_and_sensitivities() {
+    let run = |solver: Option<&str>| {
+        let dir = scratch(&format!("solver-{}", solver.unwrap_or("default")));
+        let mut args = vec![
+            "sweep",
+            "--preset",
+            "tiny",
+            "--friction",
+            "0.6",
+            "--fmax",
+            "6000",
+            "-v",
+            "-o",
+        ];
+        args.push(dir.to_str().unwrap());
+        if let Some(s) = solver {
+            args.extend(["--cea-solver", s]);
+        }
+        let out = success(2, &args);
+        let json: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(dir.join("sweep.json")).unwrap()).unwrap();
+        (String::from_utf8_lossy(&out.stderr).to_string(), json)
+    };
+    let (log, block) = run(None);
+    assert!(log.contains("block Krylov-Schur"), "{log}");
+    let (log, slepc) = run(Some("krylov-schur"));
+    assert!(!log.contains("block Krylov-Schur"), "{log}");
+    let (a, b) = (&block["points"][0], &slepc["points"][0]);
+    let (ea, eb) = (common::eigenvalues_of(a), common::eigenvalues_of(b));
+    assert_eq!(ea.len(), eb.len(), "{ea:?}\n{eb:?}");
+    for (x, y) in ea.iter().zip(&eb) {
+        let size = x.1.hypot(2.0 * std::f64::consts::PI * x.0);
+        let gap = (x.1 - y.1).hypot(2.0 * std::f64::consts::PI * (x.0 - y.0));
+        assert!(gap <= 1e-8 * size && x.2 == y.2, "{x:?} against {y:?}");
+    }
+    let (ua, ub) = (common::unstable_modes(a), common::unstable_modes(b));
+    assert!(!ua.is_empty());
+    for (x, y) in ua.iter().zip(&ub) {
+        for key in ["d_real_part_d_mu", "d_frequency_hz_d_mu"] {
+            let (p, q) = (
+                x["sensitivity"][key].as_f64().unwrap(),
+                y["sensitivity"][key].as_f64().unwrap(),
+            );
+            assert!(
+                (p - q).abs() <= 1e-6 * p.abs().max(q.abs()),
+                "{key}: {p} against {q}"
+            );
+        }
+    }
+}
+
 /// Runs squeal under mpirun and insists it succeeds.
 /// `squeal cea` on dir/K.mtx and dir/M.mtx to `fmax` Hz into `out` on 2 ranks, with
 /// `extra` flags; it must succeed.

@@ -152,6 +152,7 @@ impl<'rt> FullModel<'rt> {
             max_frequency_hz: analysis.max_frequency_hz,
             unstable_threshold: analysis.unstable_threshold,
             modes_per_target: analysis.window,
+            solver: analysis.cea_solver,
             ..Default::default()
         };
         let mut full = Self::new(comm, model, operators, cea, analysis.increments)

@@ -145,6 +145,8 @@ pub struct SweepArgs {
     pub contributions_of_every_mode: bool,
     /// Friction values the sweep may insert (study key `analysis.refine_points`).
     pub refine_points: Option<usize>,
+    /// The CEA windows' solver (study key `analysis.cea_solver`).
+    pub cea_solver: Option<crate::analysis::cea::WindowSolver>,
 }
 
 /// What `squeal sweep`'s super-element flags change in the study's `[reduction]`.
@@ -268,6 +270,9 @@ pub fn study_from_args(
     }
     if let Some(n) = args.refine_points {
         study.analysis.refine_points = n;
+    }
+    if let Some(s) = args.cea_solver {
+        study.analysis.cea_solver = s;
     }
     if let Some(o) = args.output {
         study.output = o;
