@@ -7,6 +7,10 @@ use faer::{Mat, MatRef, Side};
 
 /// A x for a block x of this rank's rows. Collective.
 pub fn times(comm: Comm<'_>, a: &Matrix<'_>, x: MatRef<'_, f64>) -> Result<Mat<f64>> {
+    // Every rank has the same columns, so every rank returns here alike.
+    if x.ncols() == 0 {
+        return Ok(Mat::zeros(x.nrows(), 0));
+    }
     let mut dense = DenseMatrix::zeros(comm, x.nrows(), x.ncols())?;
     dense.write_local(|i, j| x[(i, j)])?;
     a.mult_tall(&dense)?.local_values()

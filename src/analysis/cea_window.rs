@@ -6,8 +6,9 @@
 //! each, and the transposed operator the same way for the left vectors; SLEPc's
 //! Krylov-Schur ([`EigenSolver`], [`LeftSolver`]) applies it one vector at a time. The block
 //! solver is used where the factorisation is MUMPS's LU and the operator is larger than its
-//! subspace; SLEPc's otherwise, and wherever the block solver does not converge (it says
-//! so), so that a window always has an answer by one of them.
+//! subspace (and PETSc's dense LU of a super-element's dense pencil, on one rank); SLEPc's
+//! otherwise, and wherever the block solver does not converge (it says so), so that a
+//! window always has an answer by one of them.
 
 use super::block_krylov_schur::{self, BlockPairs};
 use super::blocks::times;
@@ -77,15 +78,21 @@ impl<'rt> Window<'rt> {
         mass: &Matrix<'rt>,
         request: WindowRequest<'_>,
     ) -> Result<Window<'rt>, PetscError> {
-        let mumps_lu = matches!(
-            request.linear,
+        // MUMPS's LU solves blocks in parallel; PETSc's own (a super-element's dense
+        // pencil, on one rank) with LAPACK's multi-right-hand-side solves.
+        let package = match request.linear {
             LinearMethod::Direct {
-                package: DirectPackage::Mumps,
+                package: package @ DirectPackage::Mumps,
                 factorization: Factorization::Lu,
-            }
-        );
-        if request.solver == WindowSolver::Block && mumps_lu {
-            if let Some(window) = BlockWindow::solve(comm, stiffness, mass, request)? {
+            } => Some(*package),
+            LinearMethod::Direct {
+                package: package @ DirectPackage::Petsc,
+                factorization: Factorization::Lu,
+            } if comm.size() == 1 => Some(*package),
+            _ => None,
+        };
+        if let (WindowSolver::Block, Some(package)) = (request.solver, package) {
+            if let Some(window) = BlockWindow::solve(comm, stiffness, mass, package, request)? {
                 return Ok(Window::Block(window));
             }
         }
@@ -295,6 +302,7 @@ impl<'rt> BlockWindow<'rt> {
         comm: Comm<'rt>,
         stiffness: &Matrix<'rt>,
         mass: &Matrix<'rt>,
+        package: DirectPackage,
         request: WindowRequest<'_>,
     ) -> Result<Option<BlockWindow<'rt>>, PetscError> {
         let (global, first, local) = layout(stiffness)?;
@@ -311,13 +319,8 @@ impl<'rt> BlockWindow<'rt> {
         // K_t - sigma M beside K_t, as SLEPc's transform makes it.
         let mut shifted = stiffness.duplicate()?;
         shifted.add(-sigma, mass, Structure::Unknown)?;
-        let factor = FactoredMatrix::with_prefix(
-            comm,
-            &shifted,
-            DirectPackage::Mumps,
-            Factorization::Lu,
-            Some(c"st_"),
-        )?;
+        let factor =
+            FactoredMatrix::with_prefix(comm, &shifted, package, Factorization::Lu, Some(c"st_"))?;
         drop(shifted);
         let started = std::time::Instant::now();
         let pairs = block_krylov_schur::largest(

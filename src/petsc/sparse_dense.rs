@@ -120,6 +120,10 @@ impl<'rt> Matrix<'rt> {
         let (lo, hi) = self.ownership_range()?;
         let cols = t.size()?.1;
         let mut product = DenseMatrix::zeros(t.comm(), hi - lo, cols)?;
+        // No column, no product (the blocked fetch divides by the width it is given).
+        if cols == 0 {
+            return Ok(product);
+        }
         let blocked = product.with_local_mut(|mut out| {
             self.product_blocks(t, WIDTH, |start, block, _| {
                 out.as_mut()

@@ -276,6 +276,16 @@ fn block_window(rt: &Runtime) -> Result<Vec<f64>, String> {
     let mut exact = omega2.clone();
     exact.sort_by(|a, b| (a - target).norm().total_cmp(&(b - target).norm()));
     let mut values = Vec::with_capacity(found);
+    // A window that keeps none of its pairs (the band's top past its last ones) asks for
+    // no residual: none, and no product with no column (which once divided by zero inside
+    // PETSc's blocked fetch).
+    if !window
+        .relative_errors(comm, (&k, &m), &[])
+        .map_err(e)?
+        .is_empty()
+    {
+        return Err("residuals of no pair".into());
+    }
     let all: Vec<usize> = (0..found).collect();
     let residuals = window.relative_errors(comm, (&k, &m), &all).map_err(e)?;
     for (i, residual) in residuals.into_iter().enumerate() {
