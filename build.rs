@@ -69,6 +69,8 @@ fn main() {
     for lib in &found.libs {
         println!("cargo:rustc-link-lib={lib}");
     }
+    // LAPACK's ordered Schur form (src/petsc/lapack.rs), from the LAPACK PETSc links.
+    println!("cargo:rustc-link-lib=lapack");
     generate_bindings(&found, &mpi_includes);
 }
 
