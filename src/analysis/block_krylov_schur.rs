@@ -175,10 +175,7 @@ pub fn largest(
         seconds[0] += clock.elapsed().as_secs_f64();
         let clock = std::time::Instant::now();
         let k = active + p;
-        // Block classical Gram-Schmidt twice, each pass followed by the block's own QR
-        // (BCGS2): where W lies nearly in the basis already, what is left after one pass
-        // is small and ill-conditioned, and its QR alone would magnify what it keeps of
-        // the basis; the second pass takes that out. W_0 = V (C_1 + C_2 R_1) + W (R_2 R_1).
+        // Kept for the column-wise fallback, should the block's QR break down.
         let original = w.clone();
         let (coefficients, r) =
             match block_gram_schmidt(comm, v.as_ref().submatrix(0, 0, local, k), &mut w)? {

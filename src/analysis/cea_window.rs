@@ -7,8 +7,9 @@
 //! Krylov-Schur ([`EigenSolver`], [`LeftSolver`]) applies it one vector at a time. The block
 //! solver is used where the factorisation is MUMPS's LU and the operator is larger than its
 //! subspace (and PETSc's dense LU of a super-element's dense pencil, on one rank); SLEPc's
-//! otherwise, and wherever the block solver does not converge (it says so), so that a
-//! window always has an answer by one of them.
+//! otherwise, where `-st_matmode inplace` asks for SLEPc's memory trimming, and wherever
+//! the block solver does not converge (it says so), so that a window always has an answer
+//! by one of them.
 
 use super::block_krylov_schur::{self, BlockPairs};
 use super::blocks::times;
@@ -91,7 +92,17 @@ impl<'rt> Window<'rt> {
             } if comm.size() == 1 => Some(*package),
             _ => None,
         };
-        if let (WindowSolver::Block, Some(package)) = (request.solver, package) {
+        // `-st_matmode inplace` asks for the CEA's memory to be trimmed by shifting the
+        // tangent in place: only SLEPc's solver does that (the block window factors a shifted
+        // copy and holds twice SLEPc's basis: industrial-caliper ran out of 24 GiB with it
+        // where SLEPc's in place fitted), so the request is SLEPc's.
+        let in_place = comm
+            .option(c"-st_matmode")?
+            .is_some_and(|mode| mode.eq_ignore_ascii_case("inplace"));
+        if in_place && request.solver == WindowSolver::Block && package.is_some() {
+            tracing::debug!("CEA window: -st_matmode inplace, so SLEPc's Krylov-Schur");
+        }
+        if let (WindowSolver::Block, Some(package), false) = (request.solver, package, in_place) {
             if let Some(window) = BlockWindow::solve(comm, stiffness, mass, package, request)? {
                 return Ok(Window::Block(window));
             }

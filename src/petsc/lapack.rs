@@ -1,15 +1,15 @@
-//! LAPACK's ordered real Schur form of a small dense matrix (dgees, then dtrsen), from the
-//! LAPACK PETSc itself links: an orthonormal basis of the invariant subspace of chosen
-//! eigenvalues, the restart a Krylov-Schur method keeps
+//! LAPACK's eigenvalue routines for the small dense matrices of a Krylov method, from the
+//! LAPACK PETSc itself links: the ordered real Schur form (dgees, then dtrsen), an
+//! orthonormal basis of the invariant subspace of chosen eigenvalues, which is the restart a
+//! Krylov-Schur method keeps; and eigenpairs (dgeev), its Ritz pairs
 //! ([`crate::analysis::block_krylov_schur`]).
 //!
-//! Why not eigenvectors: a basis made of the chosen eigenvectors spans an invariant
-//! subspace only to the eigenvectors' accuracy, eps times their condition, and a restart on
-//! a subspace that is not invariant carries that error into every later residual estimate.
-//! On a super-element's dense pencil (size 1,801) such restarts left two pairs at relative
-//! residuals of 6.4e-6 whose estimates said 1e-12. Schur vectors are orthonormal and
-//! invariant to round-off whatever the eigenvectors' condition; faer's Schur form is not
-//! public, LAPACK's is, with its reordering (dtrsen).
+//! Why Schur vectors for the restart and not the chosen eigenvectors: a basis of
+//! eigenvectors spans an invariant subspace only to the eigenvectors' accuracy (eps times
+//! their condition), and a restart on a subspace that is not invariant carries that error
+//! into every later residual estimate. Schur vectors are orthonormal and invariant to
+//! round-off whatever the eigenvectors' condition; faer's Schur form is not public, LAPACK's
+//! is, with its reordering (dtrsen). Why LAPACK's eigenvectors: see [`eigenpairs`].
 
 use super::error::{PetscError, Result};
 use faer::{Mat, MatRef};

@@ -78,6 +78,35 @@ impl<'rt> Comm<'rt> {
         self.mpi
     }
 
+    /// The value of a PETSc option in the global database (`-st_matmode` -> "inplace"), `None`
+    /// where it is not given, `Some("")` for an option given without a value. The database
+    /// comes from the same command line and environment on every rank.
+    pub fn option(&self, name: &CStr) -> Result<Option<String>> {
+        let mut buf = [0 as c_char; 256];
+        let mut set = sys::PETSC_FALSE;
+        // SAFETY: the global database (null), no prefix (null), a NUL-terminated name, and a
+        // buffer PETSc writes at most len bytes of, NUL-terminated.
+        check(unsafe {
+            sys::PetscOptionsGetString(
+                std::ptr::null_mut(),
+                std::ptr::null(),
+                name.as_ptr(),
+                buf.as_mut_ptr(),
+                buf.len(),
+                &mut set,
+            )
+        })?;
+        if set != sys::PETSC_TRUE {
+            return Ok(None);
+        }
+        // SAFETY: PETSc NUL-terminated what it wrote.
+        Ok(Some(
+            unsafe { CStr::from_ptr(buf.as_ptr()) }
+                .to_string_lossy()
+                .into_owned(),
+        ))
+    }
+
     // The reductions below go through rsmpi's safe collectives, which return no error code:
     // squeal installs no MPI error handler of its own, so under MPI's default
     // (MPI_ERRORS_ARE_FATAL) a failed collective aborts the job rather than returning.
