@@ -17,7 +17,7 @@ use crate::petsc::{
     Comm, DenseMatrix, DirectPackage, EigenOptions, EigenProblem, EigenSolver, FactoredMatrix,
     Factorization, LeftSolver, LinearMethod, Matrix, PetscError, Spectrum, Structure, Vector,
 };
-use faer::Mat;
+use faer::{Mat, MatRef};
 use num_complex::Complex64;
 
 /// Which solver a CEA window uses.
@@ -96,9 +96,12 @@ impl<'rt> Window<'rt> {
         // tangent in place: only SLEPc's solver does that (the block window factors a shifted
         // copy and holds twice SLEPc's basis: industrial-caliper ran out of 24 GiB with it
         // where SLEPc's in place fitted), so the request is SLEPc's.
-        let in_place = comm
+        // Every rank reads the same command line, but the ranks must not part ways on a
+        // collective path whatever their databases hold: in place if any rank was asked.
+        let asked = comm
             .option(c"-st_matmode")?
             .is_some_and(|mode| mode.eq_ignore_ascii_case("inplace"));
+        let in_place = !comm.all(!asked);
         if in_place && request.solver == WindowSolver::Block && package.is_some() {
             tracing::debug!("CEA window: -st_matmode inplace, so SLEPc's Krylov-Schur");
         }
@@ -184,12 +187,10 @@ impl<'rt> Window<'rt> {
                 if i >= b.values.len() {
                     return Err(out_of(i, b.values.len()));
                 }
-                let column = |m: &Mat<f64>| -> Result<Vector<'rt>, PetscError> {
-                    let mut v = template.duplicate()?;
-                    v.set_local(&(0..m.nrows()).map(|r| m[(r, i)]).collect::<Vec<_>>())?;
-                    Ok(v)
-                };
-                Ok((column(&b.re)?, column(&b.im)?))
+                Ok((
+                    column(template, &b.re, i, 1.0)?,
+                    column(template, &b.im, i, 1.0)?,
+                ))
             }
         }
     }
@@ -212,12 +213,7 @@ impl<'rt> Window<'rt> {
                 let pairs = block_krylov_schur::largest(
                     comm,
                     (global, first, local),
-                    |x| {
-                        let mx = times(comm, mass, x)?;
-                        let mut rhs = DenseMatrix::zeros(comm, local, x.ncols())?;
-                        rhs.write_local(|i, j| mx[(i, j)])?;
-                        b.factor.solve_block_transposed(&rhs)?.local_values()
-                    },
+                    shift_invert(comm, mass, &b.factor, Side::Left),
                     count,
                     subspace,
                     tolerance,
@@ -225,8 +221,18 @@ impl<'rt> Window<'rt> {
                 Ok(match pairs {
                     Some(pairs) => LeftPairs::Block { target, pairs },
                     // Left vectors cost sensitivities, never modes: SLEPc's would need a
-                    // factorisation of their own here; none is what the caller handles.
-                    None => LeftPairs::None,
+                    // factorisation of their own here; none is what the caller handles, and
+                    // it is said here because the caller only sees no pairs.
+                    None => {
+                        if comm.rank() == 0 {
+                            tracing::warn!(
+                                "CEA window at {target:e}: block Krylov-Schur on the \
+                                 transposed operator did not converge {count} left vectors; \
+                                 this window's modes get no sensitivities or shares"
+                            );
+                        }
+                        LeftPairs::None
+                    }
                 })
             }
         }
@@ -275,23 +281,62 @@ impl<'rt> LeftPairs<'_, 'rt> {
                 if i >= pairs.values.len() {
                     return Err(out_of(i, pairs.values.len()));
                 }
-                let mut re = template.duplicate()?;
-                re.set_local(
-                    &(0..pairs.re.nrows())
-                        .map(|r| pairs.re[(r, i)])
-                        .collect::<Vec<_>>(),
-                )?;
-                let mut im = template.duplicate()?;
                 // y = conj(z).
-                im.set_local(
-                    &(0..pairs.im.nrows())
-                        .map(|r| -pairs.im[(r, i)])
-                        .collect::<Vec<_>>(),
-                )?;
-                Ok((re, im))
+                Ok((
+                    column(template, &pairs.re, i, 1.0)?,
+                    column(template, &pairs.im, i, -1.0)?,
+                ))
             }
             LeftPairs::None => Err(out_of(i, 0)),
         }
+    }
+}
+
+/// Column i of a block of local rows, times `sign`, as a vector laid out like `template`.
+fn column<'rt>(
+    template: &Vector<'rt>,
+    block: &Mat<f64>,
+    i: usize,
+    sign: f64,
+) -> Result<Vector<'rt>, PetscError> {
+    let mut v = template.duplicate()?;
+    v.set_local(
+        &(0..block.nrows())
+            .map(|r| sign * block[(r, i)])
+            .collect::<Vec<_>>(),
+    )?;
+    Ok(v)
+}
+
+/// Which eigenvectors an operator is for.
+#[derive(Clone, Copy)]
+enum Side {
+    /// (K_t - sigma M)^-1 M: right eigenvectors.
+    Right,
+    /// (K_t - sigma M)^-T M: left ones (M is symmetric), on the same factors.
+    Left,
+}
+
+/// The shift-and-invert operator on a block of columns of local rows: one product with M,
+/// one multi-right-hand-side solve with the factorisation (collective).
+fn shift_invert<'a, 'rt>(
+    comm: Comm<'rt>,
+    mass: &'a Matrix<'rt>,
+    factor: &'a FactoredMatrix<'rt>,
+    side: Side,
+) -> impl FnMut(MatRef<'_, f64>) -> Result<Mat<f64>, PetscError> + 'a
+where
+    'rt: 'a,
+{
+    move |x| {
+        let mx = times(comm, mass, x)?;
+        let mut rhs = DenseMatrix::zeros(comm, x.nrows(), x.ncols())?;
+        rhs.write_local(|i, j| mx[(i, j)])?;
+        match side {
+            Side::Right => factor.solve_block(&rhs),
+            Side::Left => factor.solve_block_transposed(&rhs),
+        }?
+        .local_values()
     }
 }
 
@@ -337,12 +382,7 @@ impl<'rt> BlockWindow<'rt> {
         let pairs = block_krylov_schur::largest(
             comm,
             (global, first, local),
-            |x| {
-                let mx = times(comm, mass, x)?;
-                let mut rhs = DenseMatrix::zeros(comm, local, x.ncols())?;
-                rhs.write_local(|i, j| mx[(i, j)])?;
-                factor.solve_block(&rhs)?.local_values()
-            },
+            shift_invert(comm, mass, &factor, Side::Right),
             request.count,
             request.subspace,
             request.tolerance,
