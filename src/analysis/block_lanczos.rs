@@ -29,6 +29,48 @@ use super::replicated_factor::ReplicatedFactor;
 use crate::petsc::{Comm, Matrix, Result};
 use faer::{Accum, Mat, MatRef, Par, Side};
 
+/// A factorised K - shift M that solves blocks laid out by rows across the ranks: every
+/// rank's own factor ([`ReplicatedFactor`]) or one factor the ranks share
+/// ([`super::parallel_factor::ParallelFactor`]).
+pub trait BlockSolve {
+    /// The matrix's order.
+    fn order(&self) -> usize;
+    /// This rank's rows.
+    fn local_rows(&self) -> usize;
+    /// This rank's first row.
+    fn first_row(&self) -> usize;
+    /// A^-1 B for B of this rank's rows (collective; an `Err` on every rank or none).
+    fn solve(&self, b: MatRef<'_, f64>) -> Result<Mat<f64>>;
+}
+
+impl BlockSolve for ReplicatedFactor<'_> {
+    fn order(&self) -> usize {
+        ReplicatedFactor::order(self)
+    }
+    fn local_rows(&self) -> usize {
+        ReplicatedFactor::local_rows(self)
+    }
+    fn first_row(&self) -> usize {
+        ReplicatedFactor::first_row(self)
+    }
+    fn solve(&self, b: MatRef<'_, f64>) -> Result<Mat<f64>> {
+        ReplicatedFactor::solve(self, b)
+    }
+}
+
+/// Where the run stands: its operator's shift and block, and the band it looks for.
+#[derive(Clone, Copy, Debug)]
+pub struct Lanczos {
+    /// `factor` is K - shift M's, shift below every eigenvalue wanted.
+    pub shift: f64,
+    /// Columns a step takes.
+    pub block: usize,
+    /// The eigenvalues wanted: this many, all below `top`.
+    pub count: usize,
+    pub top: f64,
+    pub tolerance: f64,
+}
+
 /// Vectors a block step takes: a multi-right-hand-side solve and a pass over M pay for 32
 /// columns at once, and 78 modes need about 8 such steps.
 pub const BLOCK: usize = 32;
@@ -56,6 +98,27 @@ const FLOOR_SPACE: usize = 3;
 
 /// How far above the tolerance a large subspace's estimates may be (see [`FLOOR_SPACE`]).
 const FLOOR_REACH: f64 = 10.0;
+
+/// The blocks a run for `count` pairs may take: a space of about 6 count and four blocks
+/// more (see [`lowest`]), at most the operator's order.
+fn subspace_blocks(n: usize, count: usize, block: usize) -> usize {
+    ((6 * count + 4 * block) / block).min(n / block)
+}
+
+/// The blocks of V and M V that [`MAX_BASIS_BYTES`] holds on the largest rank (n / ranks
+/// rounded up: the same bound on every rank).
+fn memory_blocks(ranks: usize, n: usize, block: usize) -> usize {
+    let rows_bound = n.div_ceil(ranks.max(1)).max(1);
+    MAX_BASIS_BYTES / (2 * std::mem::size_of::<f64>() * rows_bound * block.max(1))
+}
+
+/// Whether a run for `count` pairs of an operator of order `n` has its whole subspace
+/// within [`MAX_BASIS_BYTES`] a rank: where it has not, a caller with another solver at hand
+/// (SLEPc's Krylov-Schur, which restarts) is better off with it than with a run that may
+/// stop short of converging after all its steps.
+pub fn subspace_fits(ranks: usize, n: usize, count: usize, block: usize) -> bool {
+    subspace_blocks(n, count, block) <= memory_blocks(ranks, n, block)
+}
 
 /// What [`lowest_modes`] found.
 pub struct LanczosModes {
@@ -87,6 +150,34 @@ pub fn lowest_modes(
     top: f64,
     tolerance: f64,
 ) -> Result<Option<LanczosModes>> {
+    lowest(
+        comm,
+        factor,
+        (k, m),
+        Lanczos {
+            shift: 0.0,
+            block: BLOCK,
+            count,
+            top,
+            tolerance,
+        },
+    )
+}
+
+/// [`lowest_modes`] on any [`BlockSolve`] of K - shift M, in steps of `block` columns:
+/// theta = 1 / (omega^2 - shift), largest for the lowest omega^2 above the shift.
+pub fn lowest(
+    comm: Comm<'_>,
+    factor: &impl BlockSolve,
+    (k, m): (&Matrix<'_>, &Matrix<'_>),
+    Lanczos {
+        shift,
+        block,
+        count,
+        top,
+        tolerance,
+    }: Lanczos,
+) -> Result<Option<LanczosModes>> {
     let (n, local) = (factor.order(), factor.local_rows());
     if count == 0 {
         return Ok(Some(LanczosModes {
@@ -97,15 +188,12 @@ pub fn lowest_modes(
             solves: 0,
         }));
     }
-    let b = BLOCK;
+    let b = block.max(1);
     // Shift-and-invert converges the pairs nearest the shift first; the last ones, near
     // `top`, where the spectrum is dense, took a space of 6 count on small-caliper's
     // interior (78 pairs: 15 steps of 32); four blocks more to spare.
-    // And never more than the basis's memory bound: V and M V, this rank's rows (the
-    // largest rank's at most, n / ranks rounded up: the same bound on every rank).
-    let rows_bound = n.div_ceil(comm.size().max(1)).max(1);
-    let memory_blocks = MAX_BASIS_BYTES / (2 * std::mem::size_of::<f64>() * rows_bound * b);
-    let max_blocks = ((6 * count + 4 * b) / b).min(n / b).min(memory_blocks);
+    // And never more than the basis's memory bound: V and M V, this rank's rows.
+    let max_blocks = subspace_blocks(n, count, b).min(memory_blocks(comm.size(), n, b));
     if max_blocks < 2 {
         return Ok(None);
     }
@@ -169,14 +257,14 @@ pub fn lowest_modes(
                 tolerance
             };
             let converged = wanted.iter().zip(&ratios).all(|(&p, &ratio)| {
-                theta[p] > 0.0 && 1.0 / theta[p] < top * (1.0 + 1e-8) && ratio <= bound
+                theta[p] > 0.0 && shift + 1.0 / theta[p] < top * (1.0 + 1e-8) && ratio <= bound
             });
             tracing::debug!(
                 "block Lanczos step {}: {} of {count} converged, the last {:e} (top {top:e}), \
                  residuals {:.1e} .. {:.1e}; {:.2} s",
                 j + 1,
                 ratios.iter().filter(|&&x| x <= bound).count(),
-                1.0 / theta[wanted[count - 1]],
+                shift + 1.0 / theta[wanted[count - 1]],
                 ratios[0],
                 ratios[count - 1],
                 started.elapsed().as_secs_f64()

@@ -11,6 +11,7 @@ pub mod continuation;
 pub mod growth;
 pub mod modes;
 pub mod operators;
+pub mod parallel_factor;
 pub mod pencil;
 pub mod replicated_factor;
 pub mod restraint;

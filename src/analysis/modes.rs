@@ -5,9 +5,13 @@
 //! twice. Usually one count at the band's top and one Krylov-Schur run about its bottom
 //! settle it; when that run does not return exactly the counted number, SLEPc's spectrum
 //! slicing does the band. The N lowest modes of a model with no free body (a deck's
-//! `*FREQUENCY, N`) come from one run for N pairs and one count just above the N-th. Works on
-//! any (K, M).
+//! `*FREQUENCY, N`) come from one run for N pairs and one count just above the N-th. On a
+//! model with no free body that run is block Lanczos on MUMPS's parallel LDL^T
+//! ([`block_lanczos_pairs`]), SLEPc's Krylov-Schur where it does not converge or the count
+//! disagrees (and everywhere with `-squeal_modes_block 0`). Works on any (K, M).
 
+use super::block_lanczos::{self, Lanczos};
+use super::parallel_factor::ParallelFactor;
 use super::rigid;
 use crate::petsc::{
     eigenvalues_below, Comm, DirectPackage, EigenOptions, EigenProblem, EigenSolver, Factorization,
@@ -75,6 +79,26 @@ pub struct RealModes<'rt> {
     pub iterations: usize,
     /// How the band was searched.
     pub method: BandMethod,
+    /// Which eigensolver found the pairs.
+    pub solver: ModeSolver,
+}
+
+/// Which eigensolver found a band's pairs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+pub enum ModeSolver {
+    /// SLEPc's Krylov-Schur (or its spectrum slicing).
+    KrylovSchur,
+    /// Block Lanczos on MUMPS's parallel LDL^T ([`block_lanczos_pairs`]).
+    BlockLanczos,
+}
+
+impl std::fmt::Display for ModeSolver {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            ModeSolver::KrylovSchur => "Krylov-Schur",
+            ModeSolver::BlockLanczos => "block Lanczos",
+        })
+    }
 }
 
 /// How a band was proved complete.
@@ -224,6 +248,7 @@ fn finish<'rt>(
         converged: band.converged,
         iterations: band.iterations,
         method: band.method,
+        solver: band.solver,
     })
 }
 
@@ -234,6 +259,7 @@ struct Band<'rt> {
     converged: usize,
     iterations: usize,
     method: BandMethod,
+    solver: ModeSolver,
 }
 
 /// The band by one inertia count and one shift-and-invert run: the LDL^T factorisation of
@@ -278,7 +304,32 @@ fn single_shift<'rt>(
             converged: 0,
             iterations: 0,
             method: BandMethod::SingleShift,
+            solver: ModeSolver::KrylovSchur,
         }));
+    }
+    // A held model's band by block Lanczos first (a free body's rigid-body modes, far
+    // nearer the shift than the elastic ones, are left to SLEPc's run, as in
+    // [`real_modes`]).
+    if options.expected_rigid_modes == Some(0) {
+        if let Some(found) = block_lanczos_pairs(comm, (k, m), low, (count, high), options)? {
+            let inside: Vec<Pair<'rt>> = found
+                .into_iter()
+                .filter(|f| (low..high).contains(&f.0))
+                .collect();
+            // Rank 0's sums on every rank: the same branch everywhere.
+            if inside.len() == count {
+                tracing::debug!(
+                    "single-shift modes: the {count} eigenvalues below {high:e} by block Lanczos"
+                );
+                return Ok(Some(Band {
+                    found: inside,
+                    converged: count,
+                    iterations: 0,
+                    method: BandMethod::SingleShift,
+                    solver: ModeSolver::BlockLanczos,
+                }));
+            }
+        }
     }
     let mut eps = near(comm, (k, m), low, count, options, purify, false)?;
     let mut found: Vec<(f64, f64, Vector<'rt>)> = Vec::with_capacity(count);
@@ -305,6 +356,7 @@ fn single_shift<'rt>(
                 converged,
                 iterations,
                 method: BandMethod::SingleShift,
+                solver: ModeSolver::KrylovSchur,
             }));
         }
         // More than counted cannot be (the pairs are M-orthogonal) unless they are
@@ -388,6 +440,9 @@ fn lowest_of_a_held_model<'rt>(
     options: &ModesOptions,
     purify: bool,
 ) -> Result<Option<Band<'rt>>, ModesError> {
+    if let Some(band) = block_lowest_of_a_held_model(comm, k, m, count, options)? {
+        return Ok(Some(band));
+    }
     // A shift of -(1 Hz)^2: K - sigma M is definite, and far below the first mode.
     // Its factorisation reports its inertia, so that the count below reuses its analysis.
     let mut eps = near(
@@ -450,6 +505,7 @@ fn lowest_of_a_held_model<'rt>(
                 converged,
                 iterations,
                 method: BandMethod::CountedLowest,
+                solver: ModeSolver::KrylovSchur,
             }));
         }
         // Copies of a multiple eigenvalue that a single-vector Krylov method saw only
@@ -473,6 +529,139 @@ fn lowest_of_a_held_model<'rt>(
         found.iter().filter(|f| f.0 < h).count()
     );
     Ok(None)
+}
+
+/// A pair as [`pairs`] gives it: omega^2, relative residual, M-normalised shape.
+type Pair<'rt> = (f64, f64, Vector<'rt>);
+
+/// Columns a block Lanczos step takes on a parallel LDL^T (see [`block_lanczos_pairs`]). On
+/// the clamped disc (20 lowest, 2 ranks), blocks of 4, 8 and 16 took 112, 152 and more than
+/// 176 columns (not converged in the subspace) and 4.9, 4.3-4.7 and 9.2 s (then SLEPc's
+/// run) for the eigen-solve, SLEPc's Krylov-Schur 5.4-6.0 s, single runs.
+const MODES_BLOCK: usize = 8;
+
+/// The `count` lowest pairs above `shift` (all below `top`) by block Lanczos on MUMPS's
+/// parallel LDL^T of K - shift M ([`ParallelFactor`]), as [`pairs`] gives them (omega^2,
+/// relative residual, M-normalised shape); `None` where the run does not converge in its
+/// subspace (the caller then runs SLEPc's Krylov-Schur). Why: SLEPc's Krylov-Schur makes
+/// one pass through the factors per vector, and on the clamped disc of 64,512 equations
+/// (20 lowest, 2 ranks) its 68 single solves were 1.9 s of a 5.0 s eigen-solve; a block
+/// goes through them in one multi-right-hand-side solve. Collective.
+fn block_lanczos_pairs<'rt>(
+    comm: Comm<'rt>,
+    (k, m): (&Matrix<'rt>, &Matrix<'rt>),
+    shift: f64,
+    (count, top): (usize, f64),
+    options: &ModesOptions,
+) -> Result<Option<Vec<Pair<'rt>>>, ModesError> {
+    // `-squeal_modes_block N` sets the block (0: SLEPc's Krylov-Schur alone, as before
+    // 2026-12-07); the ranks take rank 0's value, so that none parts ways.
+    let asked = comm.option(c"-squeal_modes_block")?;
+    let mut block = vec![match asked.as_deref().map(str::parse::<usize>) {
+        None => MODES_BLOCK as f64,
+        Some(Ok(b)) => b as f64,
+        Some(Err(_)) => {
+            return Err(ModesError::Petsc(PetscError::Invalid(format!(
+                "-squeal_modes_block {}: a number of columns (0 for SLEPc's Krylov-Schur) was \
+                 expected",
+                asked.unwrap_or_default()
+            ))))
+        }
+    }];
+    comm.broadcast_from_root(&mut block);
+    let block = block[0] as usize;
+    if block == 0 || !block_lanczos::subspace_fits(comm.size(), k.size()?.0, count, block) {
+        return Ok(None);
+    }
+    let factor = ParallelFactor::new(comm, k, m, shift)?;
+    let run = Lanczos {
+        shift,
+        block,
+        count,
+        top,
+        tolerance: options.tolerance,
+    };
+    let Some(found) = block_lanczos::lowest(comm, &factor, (k, m), run)? else {
+        return Ok(None);
+    };
+    drop(factor);
+    let (template, _) = k.vectors()?;
+    let (mut kx, mut mx) = (template.duplicate()?, template.duplicate()?);
+    let mut pairs = Vec::with_capacity(count);
+    for q in 0..found.eigenvalues.len() {
+        let mut shape = template.duplicate()?;
+        shape.set_local(&found.shapes.col(q).iter().copied().collect::<Vec<_>>())?;
+        // SLEPc's relative error, |K x - omega^2 M x| / (|omega^2| |x|), as the other paths
+        // report it (the run's own residuals are over |omega^2 M x|, which a mass matrix's
+        // small entries make a larger number for the same pair).
+        let value = found.eigenvalues[q];
+        k.mult(&shape, &mut kx)?;
+        m.mult(&shape, &mut mx)?;
+        kx.axpy(-value, &mx)?;
+        let residual = kx.norm2()? / (value.abs() * shape.norm2()?);
+        pairs.push((value, residual, shape));
+    }
+    tracing::debug!(
+        "block Lanczos: {count} pairs above {shift:e} in {} steps of {block} ({} solves)",
+        found.steps,
+        found.solves
+    );
+    Ok(Some(pairs))
+}
+
+/// [`lowest_of_a_held_model`] by block Lanczos ([`block_lanczos_pairs`]) and an inertia
+/// count of its own: `None` where the run does not converge or the count disagrees (the
+/// caller then takes SLEPc's run, which can search for missed copies on its own
+/// factorisation). Collective.
+fn block_lowest_of_a_held_model<'rt>(
+    comm: Comm<'rt>,
+    k: &Matrix<'rt>,
+    m: &Matrix<'rt>,
+    count: usize,
+    options: &ModesOptions,
+) -> Result<Option<Band<'rt>>, ModesError> {
+    let shift = -(2.0 * PI).powi(2);
+    // Just the count: one pair more (to take the count halfway to it) cost 24 columns more
+    // on the clamped disc, whose 21st mode converges late (4.2-4.4 s against 4.7-5.3 s).
+    let Some(mut found) =
+        block_lanczos_pairs(comm, (k, m), shift, (count, f64::INFINITY), options)?
+    else {
+        return Ok(None);
+    };
+    found.sort_by(|a, b| a.0.total_cmp(&b.0));
+    // The values are sums every rank holds with the same bits: the same branch everywhere.
+    if found.len() < count || found[0].0 <= 0.0 {
+        return Ok(None);
+    }
+    let nth = found[count - 1].0;
+    if found
+        .get(count)
+        .is_some_and(|next| next.0 - nth <= CLUSTER * nth)
+    {
+        return Ok(None);
+    }
+    let h = match found.get(count) {
+        Some(next) => 0.5 * (nth + next.0),
+        None => nth * (1.0 + 1e-6),
+    };
+    let counted = eigenvalues_below(comm, k, m, h)?;
+    let below = found.iter().filter(|f| f.0 < h).count();
+    if counted != below {
+        tracing::info!(
+            "lowest modes: {counted} eigenvalues below {h:e}, block Lanczos found {below}; \
+             SLEPc's Krylov-Schur instead"
+        );
+        return Ok(None);
+    }
+    tracing::debug!("lowest modes: the {count} lowest by block Lanczos, {counted} below {h:e}");
+    let converged = found.len();
+    Ok(Some(Band {
+        found,
+        converged,
+        iterations: 0,
+        method: BandMethod::CountedLowest,
+        solver: ModeSolver::BlockLanczos,
+    }))
 }
 
 /// Two eigenvalues this close (relative) are copies of one multiple eigenvalue for
@@ -506,6 +695,7 @@ fn slicing<'rt>(
         converged: summary.converged,
         iterations: summary.iterations,
         method: BandMethod::Slicing,
+        solver: ModeSolver::KrylovSchur,
     })
 }
 

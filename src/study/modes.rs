@@ -232,8 +232,9 @@ fn solve_and_write(
     .map_err(|source| StudyError::Modes { source })?;
     if root {
         tracing::info!(
-            "eigen-solve: {} modes in {:.2} s",
+            "eigen-solve: {} modes by {} in {:.2} s",
             solution.modes.len(),
+            solution.solver,
             t.elapsed().as_secs_f64()
         );
     }
