@@ -99,10 +99,13 @@ const FLOOR_SPACE: usize = 3;
 /// How far above the tolerance a large subspace's estimates may be (see [`FLOOR_SPACE`]).
 const FLOOR_REACH: f64 = 10.0;
 
-/// The blocks a run for `count` pairs may take: a space of about 6 count and four blocks
-/// more (see [`lowest`]), at most the operator's order.
+/// The blocks a run for `count` pairs may take: a space of about 6 count and four blocks of
+/// [`BLOCK`] more (see [`lowest`]), at most the operator's order. The spare is in columns, not
+/// in steps: narrower blocks need more columns, not fewer (the clamped disc's 21 lowest took
+/// 152 columns in blocks of 8, where 6 count and four blocks of 8 allow 158).
 fn subspace_blocks(n: usize, count: usize, block: usize) -> usize {
-    ((6 * count + 4 * block) / block).min(n / block)
+    let block = block.max(1);
+    ((6 * count + 4 * block.max(BLOCK)) / block).min(n / block)
 }
 
 /// The blocks of V and M V that [`MAX_BASIS_BYTES`] holds on the largest rank (n / ranks
@@ -191,7 +194,7 @@ pub fn lowest(
     let b = block.max(1);
     // Shift-and-invert converges the pairs nearest the shift first; the last ones, near
     // `top`, where the spectrum is dense, took a space of 6 count on small-caliper's
-    // interior (78 pairs: 15 steps of 32); four blocks more to spare.
+    // interior (78 pairs: 15 steps of 32); four blocks of 32 more to spare.
     // And never more than the basis's memory bound: V and M V, this rank's rows.
     let max_blocks = subspace_blocks(n, count, b).min(memory_blocks(comm.size(), n, b));
     if max_blocks < 2 {
