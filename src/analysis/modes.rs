@@ -468,19 +468,8 @@ fn lowest_of_a_held_model<'rt>(
         );
         return Ok(None);
     }
-    let splits = |found: &[(f64, f64, Vector<'rt>)]| {
-        let nth = found[count - 1].0;
-        found
-            .get(count)
-            .is_some_and(|next| next.0 - nth <= CLUSTER * nth)
-    };
-    let nth = found[count - 1].0;
-    let h = match found.get(count) {
-        Some(next) => 0.5 * (nth + next.0),
-        // Above the count-th by far more than its error (the run's tolerance), by far less
-        // than a gap a mode could hide in unseen: a mode missed below h fails the count.
-        None => nth * (1.0 + 1e-6),
-    };
+    let splits = |found: &[Pair<'rt>]| splits_a_cluster(found, count);
+    let h = count_shift(&found, count);
     let counted = match eps.eigenvalues_below(comm, h)? {
         Some(counted) => counted,
         None => eigenvalues_below(comm, k, m, h)?,
@@ -633,17 +622,10 @@ fn block_lowest_of_a_held_model<'rt>(
     if found.len() < count || found[0].0 <= 0.0 {
         return Ok(None);
     }
-    let nth = found[count - 1].0;
-    if found
-        .get(count)
-        .is_some_and(|next| next.0 - nth <= CLUSTER * nth)
-    {
+    if splits_a_cluster(&found, count) {
         return Ok(None);
     }
-    let h = match found.get(count) {
-        Some(next) => 0.5 * (nth + next.0),
-        None => nth * (1.0 + 1e-6),
-    };
+    let h = count_shift(&found, count);
     let counted = eigenvalues_below(comm, k, m, h)?;
     let below = found.iter().filter(|f| f.0 < h).count();
     if counted != below {
@@ -662,6 +644,27 @@ fn block_lowest_of_a_held_model<'rt>(
         method: BandMethod::CountedLowest,
         solver: ModeSolver::BlockLanczos,
     }))
+}
+
+/// Whether the `count`-th of the pairs `found` (sorted, at least `count`) and the next one
+/// found are copies of one multiple eigenvalue ([`CLUSTER`]).
+fn splits_a_cluster(found: &[Pair<'_>], count: usize) -> bool {
+    let nth = found[count - 1].0;
+    found
+        .get(count)
+        .is_some_and(|next| next.0 - nth <= CLUSTER * nth)
+}
+
+/// Where the N lowest are counted (`found` sorted, at least `count`): halfway from the
+/// `count`-th to the next one found, or just above the `count`-th.
+fn count_shift(found: &[Pair<'_>], count: usize) -> f64 {
+    let nth = found[count - 1].0;
+    match found.get(count) {
+        Some(next) => 0.5 * (nth + next.0),
+        // Above the count-th by far more than its error (the run's tolerance), by far less
+        // than a gap a mode could hide in unseen: a mode missed below h fails the count.
+        None => nth * (1.0 + 1e-6),
+    }
 }
 
 /// Two eigenvalues this close (relative) are copies of one multiple eigenvalue for
