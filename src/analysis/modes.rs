@@ -544,25 +544,46 @@ fn block_lanczos_pairs<'rt>(
     options: &ModesOptions,
 ) -> Result<Option<Vec<Pair<'rt>>>, ModesError> {
     // `-squeal_modes_block N` sets the block (0: SLEPc's Krylov-Schur alone, as before
-    // 2026-12-07); the ranks take rank 0's value, so that none parts ways.
-    let asked = comm.option(c"-squeal_modes_block")?;
+    // 2026-12-07). Rank 0 reads it and every rank takes its answer, a number or -1 for one
+    // that is not, before any rank returns: ranks whose option databases differ (a
+    // per-rank `PETSC_OPTIONS`) can then neither part ways nor leave one waiting.
+    let asked = if comm.rank() == 0 {
+        comm.option(c"-squeal_modes_block")
+            .unwrap_or_else(|e| Some(format!("(unreadable: {e})")))
+    } else {
+        None
+    };
     let mut block = vec![match asked.as_deref().map(str::parse::<usize>) {
         None => MODES_BLOCK as f64,
         Some(Ok(b)) => b as f64,
-        Some(Err(_)) => {
-            return Err(ModesError::Petsc(PetscError::Invalid(format!(
-                "-squeal_modes_block {}: a number of columns (0 for SLEPc's Krylov-Schur) was \
-                 expected",
-                asked.unwrap_or_default()
-            ))))
-        }
+        Some(Err(_)) => -1.0,
     }];
     comm.broadcast_from_root(&mut block);
+    if block[0] < 0.0 {
+        return Err(ModesError::Petsc(PetscError::Invalid(format!(
+            "-squeal_modes_block {}: a number of columns (0 for SLEPc's Krylov-Schur) was \
+             expected",
+            asked.as_deref().unwrap_or("(as rank 0 read it)")
+        ))));
+    }
     let block = block[0] as usize;
     if block == 0 || !block_lanczos::subspace_fits(comm.size(), k.size()?.0, count, block) {
         return Ok(None);
     }
-    let factor = ParallelFactor::new(comm, k, m, shift)?;
+    // MUMPS's parallel factor fails on every rank alike (its error is collective); SLEPc's
+    // run then factorises at the same shift itself and says what failed in its own words.
+    let factor = match ParallelFactor::new(comm, k, m, shift) {
+        Ok(f) => f,
+        Err(e) => {
+            if comm.rank() == 0 {
+                tracing::warn!(
+                    "block Lanczos: the factorisation at {shift:e} failed ({e}); SLEPc's \
+                     Krylov-Schur takes the modes"
+                );
+            }
+            return Ok(None);
+        }
+    };
     let run = Lanczos {
         shift,
         block,

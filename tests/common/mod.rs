@@ -44,6 +44,37 @@ pub fn mpirun(ranks: usize, program: &Path, args: &[&str]) -> Output {
         .expect("could not run `timeout mpirun`: install openmpi-bin (ci/setup does)")
 }
 
+/// One rank for each entry of `environments`, each running `program args...` with those
+/// variables set for it alone (OpenMPI's `-x NAME=value` per application context): ranks
+/// whose settings differ, as a per-rank `PETSC_OPTIONS` makes them. Killed after
+/// [`HANG_LIMIT_SECONDS`] like [`mpirun`].
+pub fn mpirun_per_rank(program: &Path, args: &[&str], environments: &[&[(&str, &str)]]) -> Output {
+    let session = tempfile::Builder::new()
+        .prefix("squeal-ompi-")
+        .tempdir()
+        .expect("a temporary folder for the MPI session");
+    let mut command = Command::new("timeout");
+    point_to_point(&mut command)
+        .arg(HANG_LIMIT_SECONDS.to_string())
+        .args(["mpirun", "--oversubscribe"]);
+    for (i, variables) in environments.iter().enumerate() {
+        if i > 0 {
+            command.arg(":");
+        }
+        command.args(["-n", "1"]);
+        for (name, value) in variables.iter() {
+            command.args(["-x", &format!("{name}={value}")]);
+        }
+        command.arg(program).args(args);
+    }
+    command
+        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+        .env("OMPI_MCA_orte_tmpdir_base", session.path())
+        .output()
+        .expect("could not run `timeout mpirun`: install openmpi-bin (ci/setup does)")
+}
+
 /// `mpirun -n ranks program args...` started in the background, for tests that signal it;
 /// the returned folder (the MPI session's) must outlive the job.
 pub fn mpirun_spawn(

@@ -172,6 +172,43 @@ fn block_lanczos_and_krylov_schur_give_the_same_modes() {
     }
 }
 
+/// `-squeal_modes_block` that is not a number is refused by name with no results written,
+/// on every rank at once: given to both ranks, and given to rank 0 alone through its own
+/// `PETSC_OPTIONS` (rank 0 reads the option, so rank 1 must fail too instead of waiting).
+/// Given to rank 1 alone it is not read at all: the run uses the default block and finds
+/// the beam deck's 10 modes as without it.
+#[test]
+fn a_block_that_is_not_a_number_is_refused_on_every_rank() {
+    let deck = data("beam_c3d10.inp");
+    let out = scratch("block-refused");
+    let o = out.join("out");
+    let e = failure(
+        2,
+        &[
+            "modes",
+            &deck,
+            "--petsc-options",
+            "-squeal_modes_block eight",
+            "-o",
+            o.to_str().unwrap(),
+        ],
+    );
+    assert!(e.contains("-squeal_modes_block eight"), "{e}");
+    assert!(!o.exists(), "a refused run wrote {}", o.display());
+    let bad: &[(&str, &str)] = &[("PETSC_OPTIONS", "-squeal_modes_block eight")];
+    let args = ["modes", &deck, "-o", o.to_str().unwrap()];
+    let run = common::mpirun_per_rank(squeal(), &args, &[bad, &[]]);
+    assert!(!common::hung(&run), "{}", common::text(&run));
+    assert!(!run.status.success(), "{}", common::text(&run));
+    assert!(common::text(&run).contains("-squeal_modes_block eight"));
+    assert!(!o.exists(), "a refused run wrote {}", o.display());
+    let run = common::mpirun_per_rank(squeal(), &args, &[&[], bad]);
+    assert!(run.status.success(), "{}", common::text(&run));
+    assert!(common::text(&run).contains("by block Lanczos"));
+    let alone = modes(2, &[&deck], &out.join("plain"));
+    assert_close(&eigenvalues_in(&o), &alone, 1e-9, "rank 1's option unread");
+}
+
 /// CalculiX 2.20 on the cantilever of beam_c3d10.inp with discrete elements
 /// (tests/data/discrete_c3d10.inp): a MASS at the free end, a SPRING1 to ground, a SPRINGA
 /// across the beam, a SPRING2 to a node held by *BOUNDARY, and a MASS on a node of its own
