@@ -402,6 +402,12 @@ struct InterfaceFlags {
     /// reduction.warp_springs; on patch laws over share couplings; off by default).
     #[arg(long)]
     warp_springs: bool,
+    /// Where each patch law integrates the full pair's penalty over its share (study key
+    /// reduction.patch_quadrature): nodes (the share's face nodes by tributary area, the full
+    /// model's own quadrature; the default) or area (the share's area as a continuum, the
+    /// rule before 2026-12-07). On patch laws over share couplings.
+    #[arg(long, value_enum)]
+    patch_quadrature: Option<squeal::reduce::PatchQuadrature>,
     /// Reduce these pairs too, besides the swept ones (study key reduction.reduce_pairs):
     /// all, swept (the default: the paper's disc/pad interface alone) or pair names
     /// separated by commas. A kept pair takes the swept pads' grid side and point contacts,
@@ -426,6 +432,7 @@ fn reduction_flags(
         area_weighting,
         tilt,
         warp_springs,
+        patch_quadrature,
         reduce_pairs,
     } = flags.clone();
     use squeal::reduce::RadiusChoice;
@@ -435,6 +442,7 @@ fn reduction_flags(
             || area_weighting
             || tilt.is_some()
             || warp_springs
+            || patch_quadrature.is_some()
             || reduce_pairs.is_some()
         {
             return Err(study::StudyError::BadFlag {
@@ -448,6 +456,8 @@ fn reduction_flags(
                     "--area-weighting"
                 } else if warp_springs {
                     "--warp-springs"
+                } else if patch_quadrature.is_some() {
+                    "--patch-quadrature"
                 } else {
                     "--tilt"
                 },
@@ -482,6 +492,7 @@ fn reduction_flags(
     spec.area_weighting = area_weighting;
     spec.tilt = tilt;
     spec.warp_springs = warp_springs;
+    spec.patch_quadrature = patch_quadrature.unwrap_or_default();
     spec.reduce_pairs = reduce_pairs.unwrap_or_default();
     Ok(Some(spec))
 }

@@ -31,7 +31,7 @@ use super::coupling::{couple_grid, couple_points, couple_shares, DistributingCou
 use super::grid::{isometric_grid, ContactGrid, GridSize};
 use super::pairs::ReducePairs;
 use super::radius::{grid_optimal, paper_radius};
-use super::tilt;
+use super::tilt::{self, PatchQuadrature};
 use super::ReduceError;
 use crate::contact::project::SurfaceSearch;
 use crate::contact::{self, ContactPoint};
@@ -164,6 +164,8 @@ pub struct InterfaceSettings {
     /// mesh (issue 29's note: better on tiny-caliper at 22 and small-caliper at 52 nodes per
     /// pad, worse at 106).
     pub warp_springs: bool,
+    /// Where each patch law integrates the penalty over its share.
+    pub patch_quadrature: PatchQuadrature,
     /// Which pairs are reduced besides the swept ones ([`super::pairs`]).
     pub reduce_pairs: ReducePairs,
     /// A reduced kept pair's own grid, by pair name (default: the swept pads' grid side).
@@ -183,6 +185,7 @@ impl Default for InterfaceSettings {
             area_weighting: false,
             tilt: None,
             warp_springs: false,
+            patch_quadrature: PatchQuadrature::Nodes,
             reduce_pairs: ReducePairs::Swept,
             pair_grids: BTreeMap::new(),
         }
@@ -697,6 +700,12 @@ pub fn reduce_interface(
         } else {
             Vec::new()
         };
+        // The share as its patch law integrates it: at its nodes on shares with patch laws.
+        let nodal = settings.patch_laws()
+            && settings.patch_quadrature == PatchQuadrature::Nodes
+            && settings.pad_coupling == PadCoupling::Share;
+        let areas = nodal.then(|| contact::tributary_areas(mesh, slave).into_iter().collect());
+        let shares = tilt::shares(&grid, &couplings, areas.as_ref());
         for (k, ((node, coupling), hit)) in grid.nodes.iter().zip(&couplings).zip(&hits).enumerate()
         {
             let p = node.position;
@@ -735,7 +744,7 @@ pub fn reduce_interface(
                     &tilt::patch(&disc_patches[k], &mesh.nodes),
                     node.area,
                     node.second_moment,
-                    &node.patch,
+                    &shares[k],
                     pair.penalty,
                     k_s,
                 )?
@@ -772,7 +781,8 @@ pub fn reduce_interface(
                 master: vec![(d, 1.0)],
                 normal: hit.normal,
                 initial_gap,
-                area: node.area,
+                // The quadrature's area (the full pair's over the share's nodes with nodal).
+                area: shares[k].iter().map(|q| q.1).sum(),
                 tangent: pair.settings.sliding.tangent(p, hit.normal),
                 position: p,
                 slave_node: c,
@@ -792,12 +802,11 @@ pub fn reduce_interface(
                 .tilt
                 .as_ref()
                 .expect("an owner has its own tilt nodes");
-            let node = &grid.nodes[k];
             let shared = tilt::shared_tilt(
                 law,
                 points[k].normal,
                 grid.plane.axes,
-                &node.patch,
+                &shares[k],
                 pair.penalty,
             )
             .ok_or_else(|| ReduceError::Tilt {
@@ -1004,6 +1013,67 @@ mod tests {
             disc_coupling: disc,
             area_weighting,
             ..InterfaceSettings::paper(GridSize::Count(count))
+        }
+    }
+
+    /// With nodal quadrature (the default) each patch law integrates at its share's face
+    /// nodes: a law's points are its share's coupling nodes, with the full pair's areas of
+    /// those nodes, about their area-weighted centre; over a pad they hold the full pair's
+    /// area, so a pad pushed closed everywhere gets the full pair's k_n A from its laws. The
+    /// area rule keeps the grid's sub-triangles (more points than nodes, the share's area).
+    #[test]
+    fn nodal_patch_laws_integrate_at_the_full_pairs_nodes() {
+        let model = tiny();
+        let run = |quadrature: PatchQuadrature| {
+            let settings = InterfaceSettings {
+                size: GridSize::Count(22),
+                patch_quadrature: quadrature,
+                ..Default::default()
+            };
+            reduce_interface(&model, &settings).unwrap()
+        };
+        let (nodal, area) = (run(PatchQuadrature::Nodes), run(PatchQuadrature::Area));
+        for (pad, other) in nodal.pads.iter().zip(&area.pads) {
+            assert_eq!(pad.pad_coupling, PadCoupling::Share);
+            let full = model
+                .pairs
+                .iter()
+                .find(|p| p.settings.name == pad.pair)
+                .unwrap();
+            let areas: BTreeMap<usize, f64> =
+                full.points.iter().map(|p| (p.slave_node, p.area)).collect();
+            let pair = nodal
+                .model
+                .pairs
+                .iter()
+                .find(|p| p.settings.name == pad.pair)
+                .unwrap();
+            let (mut held, mut quadrature_points) = (0.0, 0);
+            for (k, coupling) in pad.couplings.iter().enumerate() {
+                let point = pair
+                    .points
+                    .iter()
+                    .find(|p| p.slave_node == pad.contact_nodes[k])
+                    .unwrap();
+                let law = point.tilt.as_ref().unwrap();
+                assert_eq!(law.patch.len(), coupling.nodes.len());
+                let own: f64 = coupling.nodes.iter().map(|c| areas[&c.node]).sum();
+                let sum: f64 = law.patch.iter().map(|q| q.1).sum();
+                assert!((sum - own).abs() < 1e-12 * own, "share {k}: {sum} vs {own}");
+                assert!((point.area - own).abs() < 1e-12 * own);
+                for i in 0..2 {
+                    let first: f64 = law.patch.iter().map(|q| q.1 * q.0[i]).sum();
+                    assert!(
+                        first.abs() < 1e-12 * own * pad.grid.spacing,
+                        "share {k}: {first}"
+                    );
+                }
+                held += law.law(-1e-6, [0.0; 2]).k0;
+                quadrature_points += other.grid.nodes[k].patch.len();
+            }
+            let total: f64 = full.points.iter().map(|p| p.area).sum();
+            assert!((held - full.penalty * total).abs() < 1e-12 * full.penalty * total);
+            assert!(quadrature_points > pad.couplings.iter().map(|c| c.nodes.len()).sum());
         }
     }
 

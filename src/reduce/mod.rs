@@ -64,3 +64,4 @@ pub use interface::{
 pub use pairs::{PairGrid, ReducePairs};
 pub use radius::{radius_table, table_text, DegreeRadius, RadiusTable};
 pub use strategy::{decide, Decision, Step, Strategy};
+pub use tilt::PatchQuadrature;

@@ -32,7 +32,11 @@
 //! The contact point's normal law then integrates the full model's penalty over the node's
 //! share of the pad face at the gap g + theta . xi (theta = e . (u_rp - u_rd) / arm): closed, partly
 //! closed or open, the share carries what the full model's springs over it would. A rigid
-//! motion of the whole model tilts both patches alike: u_rp = u_rd.
+//! motion of the whole model tilts both patches alike: u_rp = u_rd. Where the couplings
+//! are shares the law integrates at the share's face nodes with their tributary areas
+//! ([`nodal_share`], [`super::PatchQuadrature::Nodes`]), as the full pair does: the full
+//! pair closes a node's whole area once its gap is negative, and a continuous rule closed
+//! a strip of the pad mesh's width less along the contact zone's edge.
 //!
 //! `arm` = sqrt(tr I / (2 A)), the share's radius of gyration, so that r_p, r_d are displacements
 //! of the patch's size and the tilt's stiffness is of the point's normal stiffness k_n A:
@@ -296,6 +300,89 @@ pub fn node_tilt(
     }))
 }
 
+/// Where a patch law integrates the full pair's penalty over its share of the pad face.
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    Default,
+    PartialEq,
+    Eq,
+    serde::Serialize,
+    serde::Deserialize,
+    clap::ValueEnum,
+)]
+#[serde(rename_all = "kebab-case")]
+pub enum PatchQuadrature {
+    /// At the share's face nodes, each with its tributary area, about their area-weighted
+    /// centre ([`nodal_share`]): the full model's node-to-surface penalty
+    /// itself, so that a gap field linear over the share closes, loads and stiffens each
+    /// node as the full model does. On share couplings; distributing couplings (which hold
+    /// no share of nodes) take [`PatchQuadrature::Area`].
+    ///
+    /// Why. The full model closes a node's whole tributary area as soon as its gap is
+    /// negative, half an element past where a continuous gap field changes sign; the area
+    /// rule closes only up to the sign change. Along the contact zone's edge that strip is
+    /// a fixed width of the pad mesh, whatever the grid: on small-caliper at mu = 0 the
+    /// area rule closed 46.3 / 47.1 % of the face against the full model's 51.2 % (normal
+    /// stiffness 0.90 / 0.92), and put through the full model's own gaps, a plane per
+    /// share, still 48.0 / 47.5 % (47.1 / 47.7 % at 106 nodes per pad: no convergence);
+    /// the nodes closed 50.9 / 50.6 % (0.993 / 0.988), and the real modes at mu = 0 moved
+    /// 0.130 % on average against 0.365 % (issue 29's note, 2026-12-07).
+    #[default]
+    Nodes,
+    /// At sub-triangles of the share no larger than h / 8 (the grid's own split of the face,
+    /// [`super::grid`]): the share's area integrated as a continuum; the rule before
+    /// 2026-12-07.
+    Area,
+}
+
+/// Each share's part of the pad face as its patch law integrates it, in the grid's order:
+/// at its face nodes ([`nodal_share`]) given the face's tributary areas by node, else the
+/// grid's sub-triangles.
+pub fn shares(
+    grid: &ContactGrid,
+    couplings: &[DistributingCoupling],
+    areas: Option<&std::collections::BTreeMap<usize, f64>>,
+) -> Vec<Vec<([f64; 2], f64)>> {
+    grid.nodes
+        .iter()
+        .zip(couplings)
+        .map(|(node, coupling)| match areas {
+            Some(areas) => nodal_share(coupling, areas, &grid.plane, node.plane),
+            None => node.patch.clone(),
+        })
+        .collect()
+}
+
+/// A share's part of the pad face as the full pair integrates it: each of its face nodes
+/// (a share coupling's) with its tributary area (`areas`, by node), at its offset in the
+/// grid plane from the share's area-weighted centre (the point the translation tie and the
+/// slope ties hold the plane at), so that a field linear over the share closes and loads
+/// each node as the full model's node-to-surface penalty does.
+pub fn nodal_share(
+    coupling: &DistributingCoupling,
+    areas: &std::collections::BTreeMap<usize, f64>,
+    plane: &super::grid::MeanPlane,
+    node: [f64; 2],
+) -> Vec<([f64; 2], f64)> {
+    let points: Vec<([f64; 2], f64)> = coupling
+        .nodes
+        .iter()
+        .filter_map(|c| {
+            let a = *areas.get(&c.node)?;
+            let p = plane.to_plane(c.position);
+            Some(([p[0] - node[0], p[1] - node[1]], a))
+        })
+        .collect();
+    let total: f64 = points.iter().map(|p| p.1).sum();
+    let centre = [0, 1].map(|i| points.iter().map(|p| p.1 * p.0[i]).sum::<f64>() / total);
+    points
+        .into_iter()
+        .map(|(xi, a)| ([xi[0] - centre[0], xi[1] - centre[1]], a))
+        .collect()
+}
+
 /// A coupling's patch as (position, node, weight).
 pub fn patch(
     coupling: &DistributingCoupling,
@@ -525,6 +612,108 @@ mod tests {
         let line: Vec<([f64; 3], usize, f64)> =
             (0..4).map(|j| (scale(j as f64, e[0]), j, 0.25)).collect();
         assert!(slope_terms(&line, e, n).is_none());
+    }
+
+    /// With nodal quadrature a share's patch law is the full pair's node-to-surface penalty
+    /// over the share's nodes for any gap field linear over the share: read at the field's
+    /// area-weighted mean (what the translation tie holds) and its slope (what the slope ties
+    /// hold), it closes the same nodes and gives the same force, stiffness and moment about
+    /// the nodes' centre, to round-off, wherever the grid node sits in the share.
+    #[test]
+    fn nodal_share_is_the_full_penalty_for_a_linear_field() {
+        let plane = super::super::grid::MeanPlane {
+            origin: [0.3, -0.2, 1.0],
+            axes: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+            normal: [0.0, 0.0, 1.0],
+            deviation: 0.0,
+            size: 1.0,
+        };
+        let at = [
+            [0.1, 0.0],
+            [1.0, 0.2],
+            [0.3, 1.1],
+            [-0.8, 0.4],
+            [0.2, -0.9],
+            [0.9, -0.7],
+        ];
+        let areas: std::collections::BTreeMap<usize, f64> = (0..at.len())
+            .map(|j| (10 + j, 0.1 + 0.05 * j as f64))
+            .collect();
+        let total: f64 = areas.values().sum();
+        let coupling = DistributingCoupling {
+            reduced_node: 0,
+            reference: plane.origin,
+            radius: 0.0,
+            weighting: super::super::coupling::Weighting::Uniform,
+            nodes: at
+                .iter()
+                .enumerate()
+                .map(|(j, p)| super::super::coupling::CouplingNode {
+                    node: 10 + j,
+                    position: [plane.origin[0] + p[0], plane.origin[1] + p[1], 1.0],
+                    distance: 0.0,
+                    weight: areas[&(10 + j)] / total,
+                })
+                .collect(),
+        };
+        let share = nodal_share(&coupling, &areas, &plane, [0.05, 0.1]);
+        assert!((share.iter().map(|q| q.1).sum::<f64>() - total).abs() < 1e-15);
+        let penalty = 3.0e13;
+        let law = Tilt {
+            nodes: [0, 1],
+            axes: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+            patch: share_offsets(&share, plane.axes, [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]),
+            arm: 1.0,
+            penalty,
+        };
+        let centre = [0, 1].map(|i| {
+            at.iter()
+                .zip(areas.values())
+                .map(|(p, a)| a * p[i])
+                .sum::<f64>()
+                / total
+        });
+        // Closed on one side of a line through the share, open on the other; all closed;
+        // all open.
+        for (g0, slope) in [
+            (1e-7, [-2e-6, 1e-6]),
+            (-1e-5, [1e-7, 2e-7]),
+            (1e-5, [1e-7, 0.0]),
+        ] {
+            let gap = |p: &[f64; 2]| g0 + slope[0] * p[0] + slope[1] * p[1];
+            let mean = at
+                .iter()
+                .zip(areas.values())
+                .map(|(p, a)| a * gap(p))
+                .sum::<f64>()
+                / total;
+            let (mut force, mut k0, mut moment) = (0.0, 0.0, [0.0; 2]);
+            for (p, a) in at.iter().zip(areas.values()) {
+                if gap(p) <= 0.0 {
+                    let f = -penalty * a * gap(p);
+                    force += f;
+                    k0 += penalty * a;
+                    for i in 0..2 {
+                        moment[i] += f * (p[i] - centre[i]);
+                    }
+                }
+            }
+            let l = law.law(mean, slope);
+            let close = |a: f64, b: f64, scale: f64| (a - b).abs() <= 1e-12 * scale;
+            assert!(
+                close(l.force, force, force.abs() + 1.0),
+                "{} vs {force}",
+                l.force
+            );
+            assert!(close(l.k0, k0, penalty * total), "{} vs {k0}", l.k0);
+            for i in 0..2 {
+                assert!(
+                    close(l.moment[i], moment[i], force.abs() + 1.0),
+                    "{:?} vs {moment:?}",
+                    l.moment
+                );
+            }
+        }
     }
 
     /// Thinness against hand computation: a unit square share with a node at each corner

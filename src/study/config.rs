@@ -1202,6 +1202,37 @@ mod tests {
         }
     }
 
+    /// `patch_quadrature` reads ("nodes" by default, "area" the rule before 2026-12-07),
+    /// names itself when wrong, and is written at its default too: its default changed, and
+    /// a study that does not name it must not find the old rule's stages under its keys.
+    #[test]
+    fn the_patch_quadrature_key_reads_and_is_always_written() {
+        use crate::reduce::PatchQuadrature;
+        let r: ReductionSpec = toml::from_str("contact_nodes_per_pad = 6\n").unwrap();
+        assert_eq!(
+            r.settings().unwrap().patch_quadrature,
+            PatchQuadrature::Nodes
+        );
+        assert!(toml::to_string(&r)
+            .unwrap()
+            .contains("patch_quadrature = \"nodes\""));
+        let r: ReductionSpec =
+            toml::from_str("contact_nodes_per_pad = 6\npatch_quadrature = \"area\"\n").unwrap();
+        assert_eq!(
+            r.settings().unwrap().patch_quadrature,
+            PatchQuadrature::Area
+        );
+        let p = write(
+            "quadrature.toml",
+            "[reduction]\ncontact_nodes_per_pad = 6\npatch_quadrature = \"gauss\"\n",
+        );
+        let e = Study::read(&p).unwrap_err().to_string();
+        assert!(
+            e.contains("quadrature.toml") && e.contains("patch_quadrature") && e.contains("gauss"),
+            "{e}"
+        );
+    }
+
     /// `pad_coupling` reads, names itself when wrong, and is written at its default too:
     /// the default was "distributing" before it was "auto", and a study that does not name
     /// it must not find the stages of the old default under its keys.

@@ -3,8 +3,8 @@
 //! reduction (METHOD.md section 5).
 
 use crate::reduce::{
-    DiscCoupling, GridSize, InterfaceSettings, PadCoupling, PairGrid, RadiusChoice, ReduceError,
-    ReducePairs, Strategy, Weighting,
+    DiscCoupling, GridSize, InterfaceSettings, PadCoupling, PairGrid, PatchQuadrature,
+    RadiusChoice, ReduceError, ReducePairs, Strategy, Weighting,
 };
 use std::collections::BTreeMap;
 
@@ -66,6 +66,12 @@ pub struct ReductionSpec {
     /// unless asked for.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub warp_springs: bool,
+    /// Where each patch law integrates the full pair's penalty over its share: "nodes" (the
+    /// share's face nodes by tributary area, the full model's own quadrature; default) or
+    /// "area" (the share's area as a continuum, the rule before 2026-12-07). Always written:
+    /// its default changed, so a study without it keys its stages apart.
+    #[serde(default)]
+    pub patch_quadrature: PatchQuadrature,
     /// Craig-Bampton super-elements on the reduced interface, assembled with node-to-node
     /// cubic contact: "single", "per-friction" or "adaptive". Absent: the reduced-interface
     /// model itself is swept.
@@ -120,6 +126,7 @@ impl ReductionSpec {
             area_weighting: false,
             tilt: None,
             warp_springs: false,
+            patch_quadrature: PatchQuadrature::default(),
             superelements: None,
             superelement_friction: None,
             cutoff_frequency_hz: None,
@@ -152,6 +159,7 @@ impl ReductionSpec {
             area_weighting: self.area_weighting,
             tilt: self.tilt.or(self.cubic_law().then_some(false)),
             warp_springs: self.warp_springs,
+            patch_quadrature: self.patch_quadrature,
             reduce_pairs: self.reduce_pairs.clone(),
             pair_grids,
         })
