@@ -471,6 +471,22 @@ fn reduction_flags(
         }
         return Ok(None);
     }
+    // The quadrature is a patch law's over its share: asked for where there is none, it
+    // would be silently ignored (the study key is always written, so only the flag is
+    // refused).
+    if patch_quadrature.is_some()
+        && (tilt == Some(false) || pad_coupling == Some(squeal::reduce::PadCoupling::Distributing))
+    {
+        return Err(study::StudyError::BadFlag {
+            flag: "--patch-quadrature",
+            why: "is where a patch law integrates its share of the pad face, and there is \
+                  none with --tilt false (point contacts) or --pad-coupling distributing \
+                  (no share of nodes): leave one of them out"
+                .into(),
+        }
+        .collective()
+        .into());
+    }
     let radius = match radius.as_str() {
         "grid-optimal" => RadiusChoice::GridOptimal,
         "paper" => RadiusChoice::Paper,

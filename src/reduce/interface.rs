@@ -222,6 +222,9 @@ pub struct ReducedPad {
     /// How many of its share couplings read their nearest neighbour's tilt nodes (their
     /// own face nodes lie on one line, [`tilt::slope_owners`]).
     pub borrowed_slopes: usize,
+    /// Where its patch laws integrate their shares: at the face nodes only over share
+    /// couplings with [`PatchQuadrature::Nodes`] asked for; `None` without patch laws.
+    pub quadrature: Option<PatchQuadrature>,
     /// How many warping springs hold its pad face within the shares ([`super::warp`]): one
     /// per face node, none without them.
     pub warp_springs: usize,
@@ -236,51 +239,6 @@ pub struct ReducedInterface {
     pub settings: InterfaceSettings,
     /// What the automatic choices chose and why, when any was left to squeal.
     pub choice: Option<String>,
-}
-
-impl ReducedInterface {
-    /// One line per pad: count, h, radius, k_s; the automatic choice first, if any.
-    pub fn summary(&self) -> String {
-        self.choice
-            .iter()
-            .cloned()
-            .chain(self.pads.iter().map(|p| {
-                let ks = p.spring_stiffness.iter().fold(0.0, |a: f64, &b| a.max(b));
-                let kept = if p.swept {
-                    ""
-                } else {
-                    " (kept pair, point contacts)"
-                };
-                let patch = match (p.tilt_nodes.is_empty(), p.borrowed_slopes) {
-                    (true, _) => String::new(),
-                    (false, 0) => "; patch laws (two tilt nodes per reduced contact node)".into(),
-                    (false, b) => format!(
-                        "; patch laws (two tilt nodes per reduced contact node; {b} share(s) \
-                         with their face nodes on one line or a thin strip read their nearest \
-                         neighbour's)"
-                    ),
-                };
-                // With share couplings the radius is the disc-side patches' alone.
-                let radius = match p.pad_coupling {
-                    PadCoupling::Share => "pad couplings over the shares; disc-side radius",
-                    _ => "radius of influence",
-                };
-                let warp = match p.warp_springs {
-                    0 => String::new(),
-                    n => format!("; {n} warping springs on the pad face"),
-                };
-                format!(
-                    "{}{kept}: {}; {radius} {:.4e} ({:.3} h), tie springs up to {:.3e} N/m{patch}{warp}",
-                    p.pair,
-                    p.grid.summary(),
-                    p.radius,
-                    p.radius / p.grid.spacing,
-                    ks
-                )
-            }))
-            .collect::<Vec<_>>()
-            .join("\n")
-    }
 }
 
 /// The radius of influence for a grid of side h.
@@ -663,6 +621,7 @@ pub fn reduce_interface(
             tilt_nodes: Vec::new(),
             swept: model.swept[i],
             borrowed_slopes: 0,
+            quadrature: None,
             warp_springs: 0,
         };
         // Whose tilt nodes each reduced contact's patch law reads: its own, or with share
@@ -705,6 +664,11 @@ pub fn reduce_interface(
             && settings.patch_quadrature == PatchQuadrature::Nodes
             && settings.pad_coupling == PadCoupling::Share;
         let areas = nodal.then(|| contact::tributary_areas(mesh, slave).into_iter().collect());
+        pad.quadrature = settings.patch_laws().then_some(if nodal {
+            PatchQuadrature::Nodes
+        } else {
+            PatchQuadrature::Area
+        });
         let shares = tilt::shares(&grid, &couplings, areas.as_ref());
         for (k, ((node, coupling), hit)) in grid.nodes.iter().zip(&couplings).zip(&hits).enumerate()
         {

@@ -37,6 +37,7 @@ pub mod dense_path;
 mod error;
 pub mod grid;
 pub mod interface;
+mod interface_summary;
 pub mod pairs;
 pub mod radius;
 pub mod residual_vectors;

@@ -376,6 +376,11 @@ pub fn nodal_share(
         })
         .collect();
     let total: f64 = points.iter().map(|p| p.1).sum();
+    if total <= 0.0 {
+        // No face node with an area: an empty share (its law carries nothing), rather than
+        // NaN offsets from a centre of 0 / 0. reduce_interface's shares all hold face nodes.
+        return Vec::new();
+    }
     let centre = [0, 1].map(|i| points.iter().map(|p| p.1 * p.0[i]).sum::<f64>() / total);
     points
         .into_iter()
@@ -658,6 +663,8 @@ mod tests {
         };
         let share = nodal_share(&coupling, &areas, &plane, [0.05, 0.1]);
         assert!((share.iter().map(|q| q.1).sum::<f64>() - total).abs() < 1e-15);
+        // None of its nodes on the face (no area): an empty share, not NaN offsets.
+        assert!(nodal_share(&coupling, &Default::default(), &plane, [0.05, 0.1]).is_empty());
         let penalty = 3.0e13;
         let law = Tilt {
             nodes: [0, 1],
