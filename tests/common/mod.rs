@@ -22,9 +22,11 @@ fn point_to_point(command: &mut Command) -> &mut Command {
     command
 }
 
-/// `mpirun -n ranks program args...` with the settings this machine needs (root, 2 cores),
-/// killed after [`HANG_LIMIT_SECONDS`] so a hang fails the test instead of the CI run.
-pub fn mpirun(ranks: usize, program: &Path, args: &[&str]) -> Output {
+/// `[timeout LIMIT] mpirun --oversubscribe`, the job's arguments to follow, with the settings
+/// this machine needs (root, 2 cores) and its own session folder, which must outlive the job.
+/// `timed`: killed after [`HANG_LIMIT_SECONDS`], so a hang fails the test instead of the CI
+/// run.
+fn mpirun_command(timed: bool) -> (Command, tempfile::TempDir) {
     // Each job its own session folder: OpenMPI 4.1 creates /tmp/ompi.<host>.<uid> on start,
     // and two jobs starting at once (the tests of a binary run in parallel) can both try,
     // the loser failing in orte_init with "File exists".
@@ -32,14 +34,28 @@ pub fn mpirun(ranks: usize, program: &Path, args: &[&str]) -> Output {
         .prefix("squeal-ompi-")
         .tempdir()
         .expect("a temporary folder for the MPI session");
-    point_to_point(&mut Command::new("timeout"))
-        .arg(HANG_LIMIT_SECONDS.to_string())
-        .args(["mpirun", "-n", &ranks.to_string(), "--oversubscribe"])
-        .arg(program)
-        .args(args)
+    let mut command = if timed {
+        let mut timeout = Command::new("timeout");
+        timeout.arg(HANG_LIMIT_SECONDS.to_string()).arg("mpirun");
+        timeout
+    } else {
+        Command::new("mpirun")
+    };
+    point_to_point(&mut command)
+        .arg("--oversubscribe")
         .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
         .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
-        .env("OMPI_MCA_orte_tmpdir_base", session.path())
+        .env("OMPI_MCA_orte_tmpdir_base", session.path());
+    (command, session)
+}
+
+/// `mpirun -n ranks program args...`, killed after [`HANG_LIMIT_SECONDS`].
+pub fn mpirun(ranks: usize, program: &Path, args: &[&str]) -> Output {
+    let (mut command, _session) = mpirun_command(true);
+    command
+        .args(["-n", &ranks.to_string()])
+        .arg(program)
+        .args(args)
         .output()
         .expect("could not run `timeout mpirun`: install openmpi-bin (ci/setup does)")
 }
@@ -49,14 +65,7 @@ pub fn mpirun(ranks: usize, program: &Path, args: &[&str]) -> Output {
 /// whose settings differ, as a per-rank `PETSC_OPTIONS` makes them. Killed after
 /// [`HANG_LIMIT_SECONDS`] like [`mpirun`].
 pub fn mpirun_per_rank(program: &Path, args: &[&str], environments: &[&[(&str, &str)]]) -> Output {
-    let session = tempfile::Builder::new()
-        .prefix("squeal-ompi-")
-        .tempdir()
-        .expect("a temporary folder for the MPI session");
-    let mut command = Command::new("timeout");
-    point_to_point(&mut command)
-        .arg(HANG_LIMIT_SECONDS.to_string())
-        .args(["mpirun", "--oversubscribe"]);
+    let (mut command, _session) = mpirun_command(true);
     for (i, variables) in environments.iter().enumerate() {
         if i > 0 {
             command.arg(":");
@@ -68,9 +77,6 @@ pub fn mpirun_per_rank(program: &Path, args: &[&str], environments: &[&[(&str, &
         command.arg(program).args(args);
     }
     command
-        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
-        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
-        .env("OMPI_MCA_orte_tmpdir_base", session.path())
         .output()
         .expect("could not run `timeout mpirun`: install openmpi-bin (ci/setup does)")
 }
@@ -82,17 +88,11 @@ pub fn mpirun_spawn(
     program: &Path,
     args: &[&str],
 ) -> (std::process::Child, tempfile::TempDir) {
-    let session = tempfile::Builder::new()
-        .prefix("squeal-ompi-")
-        .tempdir()
-        .expect("a temporary folder for the MPI session");
-    let child = point_to_point(&mut Command::new("mpirun"))
-        .args(["-n", &ranks.to_string(), "--oversubscribe"])
+    let (mut command, session) = mpirun_command(false);
+    let child = command
+        .args(["-n", &ranks.to_string()])
         .arg(program)
         .args(args)
-        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
-        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
-        .env("OMPI_MCA_orte_tmpdir_base", session.path())
         .stdout(std::process::Stdio::piped())
         .stderr(std::process::Stdio::piped())
         .spawn()
