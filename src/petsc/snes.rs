@@ -13,10 +13,6 @@ use std::mem::ManuallyDrop;
 use std::os::raw::c_void;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
-/// Linear solves around a kept factorisation that may end at GMRES's limit within one Newton
-/// solve before it is called diverged (each is followed by a fresh factorisation).
-const KEPT_FACTOR_SOLVE_FAILURES: sys::PetscInt = 5;
-
 /// F(x) into `f`. An `Err` stops the solve with that message.
 pub type Residual<'f, 'rt> =
     dyn FnMut(&Vector<'rt>, &mut Vector<'rt>) -> std::result::Result<(), String> + 'f;
@@ -219,6 +215,31 @@ unsafe extern "C" fn jacobian_trampoline(
     unsafe { sys::SNESSetLagPreconditioner(snes, if keep.is_some() { -1 } else { -2 }) }
 }
 
+/// GMRES around Newton's factorisation, kept or fresh: PETSc's default test, with the
+/// iteration limit taken as the end of a usable step (`KSP_CONVERGED_ITS`) instead of
+/// `KSP_DIVERGED_ITS`, which would end Newton. `ctx` is PETSc's default test's context.
+unsafe extern "C" fn kept_factor_convergence(
+    ksp: sys::KSP,
+    it: sys::PetscInt,
+    rnorm: sys::PetscReal,
+    reason: *mut sys::KSPConvergedReason,
+    ctx: *mut c_void,
+) -> sys::PetscErrorCode {
+    // SAFETY: PETSc calls this with a live KSP, its out-pointer and the context it was given.
+    unsafe {
+        let code = sys::KSPConvergedDefault(ksp, it, rnorm, reason, ctx);
+        if code != 0 || *reason != sys::KSP_CONVERGED_ITERATING {
+            return code;
+        }
+        let (mut rtol, mut abstol, mut dtol, mut limit) = (0.0, 0.0, 0.0, 0);
+        let code = sys::KSPGetTolerances(ksp, &mut rtol, &mut abstol, &mut dtol, &mut limit);
+        if code == 0 && it >= limit {
+            *reason = sys::KSP_CONVERGED_ITS;
+        }
+        code
+    }
+}
+
 /// PETSc's default test, and the stagnation on the round-off floor
 /// ([`NewtonOptions::roundoff_floor`]): stiff ties leave |F| at eps k |u|, where a Newton step
 /// gains nothing and, before this test, each further iteration cost a factorisation until the
@@ -392,15 +413,20 @@ impl<'f, 'rt> NonlinearSolver<'f, 'rt> {
                 // contact points changed, or stiff ties hold GMRES on a round-off floor above
                 // its tolerance) ends GMRES at its limit. That is a poor preconditioner, not a
                 // failed Newton step: the step is taken as GMRES left it, the line search
-                // judges it, and the next Jacobian is factorised afresh (the callback sees
-                // the failed solve). Ending Newton there instead made the from-rest static
-                // of tiny-caliper with every pair reduced fail at every load cut-back under
-                // one BLAS kernel: GMRES reached 1e-9 relative, not 1e-12, on its third
-                // iteration's kept factor (2026-12-07; with this, 11 Newton iterations).
-                // Bounded, so a tangent that cannot be factorised at all still ends the solve.
-                check(sys::SNESSetMaxLinearSolveFailures(
-                    raw,
-                    KEPT_FACTOR_SOLVE_FAILURES,
+                // judges it, and the next Jacobian is factorised afresh (the callback sees more
+                // iterations than a kept factor may take). Ending Newton there instead made the
+                // from-rest static of tiny-caliper with every pair reduced fail at every load
+                // cut-back under one BLAS kernel: GMRES reached 1e-9 relative, not 1e-12, on
+                // its third iteration's kept factor (2026-12-07; with this, 11 Newton
+                // iterations). A failed preconditioner (a zero pivot, no memory) still ends
+                // the solve: only the limit is accepted.
+                let mut default_ctx = std::ptr::null_mut();
+                check(sys::KSPConvergedDefaultCreate(&mut default_ctx))?;
+                check(sys::KSPSetConvergenceTest(
+                    ksp,
+                    Some(kept_factor_convergence),
+                    default_ctx,
+                    Some(sys::KSPConvergedDefaultDestroy),
                 ))?;
             }
             if options.roundoff_floor > 0.0 {

@@ -45,6 +45,7 @@ pub const CHECKS: &[Check] = checks![
     "snes_callback_error_is_err" => snes_callback_error,
     "snes_kept_factorization_same_solution" => snes_kept_factorization,
     "snes_stops_on_the_roundoff_floor_of_stiff_ties" => snes_roundoff_floor,
+    "snes_takes_a_kept_factors_step_at_gmres_limit_and_stops_on_a_failed_factor" => snes_gmres_limit,
     "pep_damped_oscillators" => pep_closed_form,
     "singular_solve_is_err_on_every_rank" => singular_solve,
     "entry_outside_pattern_is_err" => outside_pattern,
@@ -891,6 +892,92 @@ fn snes_roundoff_floor(rt: &Runtime) -> Result<Vec<f64>, String> {
             "without the floor the solve stopped by {reason}: the case does not reach the floor"
         )),
         Err(_) => Ok(vec![1.0]),
+    }
+}
+
+/// The obstacle problem of [`snes_kept_factorization`] with a Jacobian that understates how
+/// much it changed (rank at most 1 whatever the flips) and a kept rank of 1, so GMRES's limit
+/// is 12 iterations: the first Newton step puts about 180 of the 400 nodes past the obstacle
+/// (u = x (1 - x) / 2 > 0.1 on (0.276, 0.724)), and the kept LU of the Laplacian
+/// preconditions a tangent that differs from it by k on those 180 nodes (a rank-180 change,
+/// eigenvalues spread over decades): GMRES cannot reach 1e-12 in 12 iterations. That limit
+/// is a poor preconditioner, not a failed Newton step: the step must be taken, the next
+/// tangent factorised afresh, and Newton must reach the solution a fresh factor at every
+/// step reaches (the same bound as there). Before 2026-12-07 it ended Newton
+/// (DIVERGED_LINEAR_SOLVE), which made a floating caliper's static fail under one BLAS
+/// kernel. And a factorisation that fails (a tangent with an empty row: a zero pivot) must
+/// still end the solve at once, with the pivot named, on every rank.
+fn snes_gmres_limit(rt: &Runtime) -> Result<Vec<f64>, String> {
+    let comm = rt.world();
+    let n = 400;
+    let h2 = 1.0 / ((n + 1) as f64).powi(2);
+    let (k, c) = (1e4, 0.1);
+    let (lo, hi) = split(n, comm);
+    // `empty_row`: the tangent's row 0 is zero (its pattern kept), so its LU has a zero pivot.
+    let solve = |keep: usize, understate: bool, empty_row: bool| {
+        let jac = matrix(comm, n, |i| laplacian_1d(i, n))?;
+        let residual = Box::new(|x: &Vector, f: &mut Vector| -> Result<(), String> {
+            let all = x.gather_all().map_err(e)?;
+            let mut out = f.write().map_err(e)?;
+            for (r, i) in (lo..hi).enumerate() {
+                let au: f64 = laplacian_1d(i, n).iter().map(|&(j, v)| v * all[j]).sum();
+                out[r] = au / h2 + k * (all[i] - c).max(0.0) - 1.0;
+            }
+            Ok(())
+        });
+        let mut first = true;
+        let jacobian = Box::new(
+            move |x: &Vector, j: &mut Matrix| -> Result<JacobianChange, String> {
+                let local = x.read().map_err(e)?.to_vec();
+                j.zero().map_err(e)?;
+                for (r, i) in (lo..hi).enumerate() {
+                    for (col, v) in laplacian_1d(i, n) {
+                        let d = if col == i && local[r] > c { k } else { 0.0 };
+                        let value = if empty_row && i == 0 { 0.0 } else { v / h2 + d };
+                        j.add_block(&[i as PetscInt], &[col as PetscInt], &[value])
+                            .map_err(e)?;
+                    }
+                }
+                j.assemble().map_err(e)?;
+                let change = if first || !understate {
+                    JacobianChange::Unknown
+                } else {
+                    JacobianChange::RankAtMost(1)
+                };
+                first = false;
+                Ok(change)
+            },
+        );
+        let options = NewtonOptions {
+            relative_tolerance: 1e-10,
+            line_search: "basic".into(),
+            keep_factorization_rank: keep,
+            ..Default::default()
+        };
+        let mut snes = NonlinearSolver::new(comm, residual, jacobian, jac, &options).map_err(e)?;
+        let mut x = Vector::new(comm, hi - lo).map_err(e)?;
+        let report = snes.solve(&mut x).map_err(e)?;
+        Ok::<_, String>((x.gather_all().map_err(e)?, report))
+    };
+    let (fresh, _) = solve(0, false, false)?;
+    let (kept, report) = solve(1, true, false)
+        .map_err(|err| format!("GMRES's limit around a kept factor ended Newton: {err}"))?;
+    // As in snes_kept_factorization: two solutions with |F| <= 1e-10 |F(0)| of a strongly
+    // monotone F (constant > pi^2 - 1) differ by at most 2e-10 sqrt(n) / (pi^2 - 1).
+    let f0 = (n as f64).sqrt();
+    let differ = fresh
+        .iter()
+        .zip(&kept)
+        .map(|(a, b)| (a - b).powi(2))
+        .sum::<f64>()
+        .sqrt();
+    if differ > 2e-10 * f0 / (PI * PI - 1.0) {
+        return Err(format!("kept vs fresh {differ:e} after {report:?}"));
+    }
+    match solve(1, false, true) {
+        Ok((_, r)) => Err(format!("a tangent with a zero pivot gave Ok({r:?})")),
+        Err(err) if err.contains("zero pivot") => Ok(kept),
+        Err(err) => Err(format!("a zero pivot not named: {err}")),
     }
 }
 
