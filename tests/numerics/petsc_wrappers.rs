@@ -13,8 +13,8 @@ use squeal::mesh::{block::block, Material};
 use squeal::petsc::{
     columns_to_faer, eigenvalues_below, Comm, DenseMatrix, DirectPackage, EigenOptions,
     EigenProblem, EigenSolver, FactoredMatrix, Factorization, IndexSet, JacobianChange,
-    LinearMethod, LinearSolver, Matrix, NewtonOptions, NonlinearSolver, PetscError, PetscInt,
-    QuadraticEigenSolver, QuadraticOptions, RowPattern, Runtime, Spectrum, Vector,
+    LinearMethod, LinearSolver, Matrix, NewtonOptions, NewtonReport, NonlinearSolver, PetscError,
+    PetscInt, QuadraticEigenSolver, QuadraticOptions, RowPattern, Runtime, Spectrum, Vector,
 };
 use std::f64::consts::PI;
 
@@ -723,6 +723,89 @@ fn snes_known_solution(rt: &Runtime) -> Result<Vec<f64>, String> {
     Ok(all)
 }
 
+/// The obstacle problem's residual on this rank's rows `lo..hi`: -u'' + k max(0, u - c) - 1
+/// on n interior nodes of (0, 1) (see [`snes_kept_factorization`]).
+#[allow(clippy::type_complexity)]
+fn obstacle_residual<'rt>(
+    n: usize,
+    k: f64,
+    c: f64,
+    (lo, hi): (usize, usize),
+) -> Box<dyn FnMut(&Vector<'rt>, &mut Vector<'rt>) -> Result<(), String>> {
+    let h2 = 1.0 / ((n + 1) as f64).powi(2);
+    Box::new(move |x: &Vector, f: &mut Vector| -> Result<(), String> {
+        let all = x.gather_all().map_err(e)?;
+        let mut out = f.write().map_err(e)?;
+        for (r, i) in (lo..hi).enumerate() {
+            let au: f64 = laplacian_1d(i, n).iter().map(|&(j, v)| v * all[j]).sum();
+            out[r] = au / h2 + k * (all[i] - c).max(0.0) - 1.0;
+        }
+        Ok(())
+    })
+}
+
+/// The obstacle problem's tangent at `x` into `j` (its rows `lo..hi`): A / h^2 + k on the
+/// nodes past the obstacle, whose flags it returns; `empty_row`: row 0 all zeros (its
+/// pattern kept), a tangent whose LU meets a zero pivot.
+fn obstacle_tangent(
+    x: &Vector,
+    j: &mut Matrix,
+    n: usize,
+    k: f64,
+    c: f64,
+    (lo, hi): (usize, usize),
+    empty_row: bool,
+) -> Result<Vec<bool>, String> {
+    let h2 = 1.0 / ((n + 1) as f64).powi(2);
+    let active: Vec<bool> = x.read().map_err(e)?.iter().map(|&u| u > c).collect();
+    j.zero().map_err(e)?;
+    for (r, i) in (lo..hi).enumerate() {
+        for (col, v) in laplacian_1d(i, n) {
+            let d = if col == i && active[r] { k } else { 0.0 };
+            let value = if empty_row && i == 0 { 0.0 } else { v / h2 + d };
+            j.add_block(&[i as PetscInt], &[col as PetscInt], &[value])
+                .map_err(e)?;
+        }
+    }
+    j.assemble().map_err(e)?;
+    Ok(active)
+}
+
+/// |a - b| in the 2-norm.
+fn distance(a: &[f64], b: &[f64]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(a, b)| (a - b).powi(2))
+        .sum::<f64>()
+        .sqrt()
+}
+
+/// Newton on the obstacle problem from u = 0, to 1e-10 of the first residual, keeping
+/// factorisations up to rank `keep`: the solution (every rank's copy) and the report. Full
+/// steps: on a piecewise-linear F, Newton then moves from active set to active set (a
+/// semismooth Newton), where backtracking would crawl.
+#[allow(clippy::type_complexity)]
+fn obstacle_solve<'f, 'rt>(
+    comm: Comm<'rt>,
+    n: usize,
+    (lo, hi): (usize, usize),
+    keep: usize,
+    residual: Box<dyn FnMut(&Vector<'rt>, &mut Vector<'rt>) -> Result<(), String> + 'f>,
+    jacobian: Box<dyn FnMut(&Vector<'rt>, &mut Matrix<'rt>) -> Result<JacobianChange, String> + 'f>,
+) -> Result<(Vec<f64>, NewtonReport), String> {
+    let jac = matrix(comm, n, |i| laplacian_1d(i, n))?;
+    let options = NewtonOptions {
+        relative_tolerance: 1e-10,
+        line_search: "basic".into(),
+        keep_factorization_rank: keep,
+        ..Default::default()
+    };
+    let mut snes = NonlinearSolver::new(comm, residual, jacobian, jac, &options).map_err(e)?;
+    let mut x = Vector::new(comm, hi - lo).map_err(e)?;
+    let report = snes.solve(&mut x).map_err(e)?;
+    Ok((x.gather_all().map_err(e)?, report))
+}
+
 /// A piecewise-linear problem like penalty contact: -u'' = 1 on (0, 1), u(0) = u(1) = 0,
 /// with a stiff spring k max(0, u - c) where u passes the obstacle c. Newton's Jacobian
 /// A + k diag(u > c) changes by one rank per node that enters or leaves the active set. With
@@ -735,30 +818,11 @@ fn snes_kept_factorization(rt: &Runtime) -> Result<Vec<f64>, String> {
     let (k, c) = (1e4, 0.1);
     let (lo, hi) = split(n, comm);
     let solve = |keep: usize| -> Result<(Vec<f64>, usize, usize), String> {
-        let jac = matrix(comm, n, |i| laplacian_1d(i, n))?;
-        let residual = Box::new(|x: &Vector, f: &mut Vector| -> Result<(), String> {
-            let all = x.gather_all().map_err(e)?;
-            let mut out = f.write().map_err(e)?;
-            for (r, i) in (lo..hi).enumerate() {
-                let au: f64 = laplacian_1d(i, n).iter().map(|&(j, v)| v * all[j]).sum();
-                out[r] = au / h2 + k * (all[i] - c).max(0.0) - 1.0;
-            }
-            Ok(())
-        });
+        let residual = obstacle_residual(n, k, c, (lo, hi));
         let mut previous: Option<Vec<bool>> = None;
         let jacobian = Box::new(
             move |x: &Vector, j: &mut Matrix| -> Result<JacobianChange, String> {
-                let local = x.read().map_err(e)?.to_vec();
-                let active: Vec<bool> = local.iter().map(|&u| u > c).collect();
-                j.zero().map_err(e)?;
-                for (r, i) in (lo..hi).enumerate() {
-                    for (col, v) in laplacian_1d(i, n) {
-                        let d = if col == i && active[r] { k } else { 0.0 };
-                        j.add_block(&[i as PetscInt], &[col as PetscInt], &[v / h2 + d])
-                            .map_err(e)?;
-                    }
-                }
-                j.assemble().map_err(e)?;
+                let active = obstacle_tangent(x, j, n, k, c, (lo, hi), false)?;
                 let change = match &previous {
                     None => JacobianChange::Unknown,
                     Some(p) => {
@@ -772,22 +836,8 @@ fn snes_kept_factorization(rt: &Runtime) -> Result<Vec<f64>, String> {
                 Ok(change)
             },
         );
-        // Full steps: on a piecewise-linear F, Newton then moves from active set to active
-        // set (a semismooth Newton), where backtracking would crawl.
-        let options = NewtonOptions {
-            relative_tolerance: 1e-10,
-            line_search: "basic".into(),
-            keep_factorization_rank: keep,
-            ..Default::default()
-        };
-        let mut snes = NonlinearSolver::new(comm, residual, jacobian, jac, &options).map_err(e)?;
-        let mut x = Vector::new(comm, hi - lo).map_err(e)?;
-        let report = snes.solve(&mut x).map_err(e)?;
-        Ok((
-            x.gather_all().map_err(e)?,
-            report.iterations,
-            report.factorizations,
-        ))
+        let (x, report) = obstacle_solve(comm, n, (lo, hi), keep, residual, jacobian)?;
+        Ok((x, report.iterations, report.factorizations))
     };
     let (fresh, its_fresh, lu_fresh) = solve(0)?;
     let (kept, its_kept, lu_kept) = solve(40)?;
@@ -812,12 +862,7 @@ fn snes_kept_factorization(rt: &Runtime) -> Result<Vec<f64>, String> {
     // two such solutions differ by at most 2e-10 sqrt(n) / (pi^2 - 1) in the 2-norm, and
     // each |F_i| is at most 1e-10 sqrt(n).
     let f0 = (n as f64).sqrt();
-    let differ = fresh
-        .iter()
-        .zip(&kept)
-        .map(|(a, b)| (a - b).powi(2))
-        .sum::<f64>()
-        .sqrt();
+    let differ = distance(&fresh, &kept);
     if worst > 1e-10 * f0 || differ > 2e-10 * f0 / (PI * PI - 1.0) {
         return Err(format!("|F| = {worst:e}, kept vs fresh {differ:e}"));
     }
@@ -910,35 +955,15 @@ fn snes_roundoff_floor(rt: &Runtime) -> Result<Vec<f64>, String> {
 fn snes_gmres_limit(rt: &Runtime) -> Result<Vec<f64>, String> {
     let comm = rt.world();
     let n = 400;
-    let h2 = 1.0 / ((n + 1) as f64).powi(2);
     let (k, c) = (1e4, 0.1);
     let (lo, hi) = split(n, comm);
     // `empty_row`: the tangent's row 0 is zero (its pattern kept), so its LU has a zero pivot.
     let solve = |keep: usize, understate: bool, empty_row: bool| {
-        let jac = matrix(comm, n, |i| laplacian_1d(i, n))?;
-        let residual = Box::new(|x: &Vector, f: &mut Vector| -> Result<(), String> {
-            let all = x.gather_all().map_err(e)?;
-            let mut out = f.write().map_err(e)?;
-            for (r, i) in (lo..hi).enumerate() {
-                let au: f64 = laplacian_1d(i, n).iter().map(|&(j, v)| v * all[j]).sum();
-                out[r] = au / h2 + k * (all[i] - c).max(0.0) - 1.0;
-            }
-            Ok(())
-        });
+        let residual = obstacle_residual(n, k, c, (lo, hi));
         let mut first = true;
         let jacobian = Box::new(
             move |x: &Vector, j: &mut Matrix| -> Result<JacobianChange, String> {
-                let local = x.read().map_err(e)?.to_vec();
-                j.zero().map_err(e)?;
-                for (r, i) in (lo..hi).enumerate() {
-                    for (col, v) in laplacian_1d(i, n) {
-                        let d = if col == i && local[r] > c { k } else { 0.0 };
-                        let value = if empty_row && i == 0 { 0.0 } else { v / h2 + d };
-                        j.add_block(&[i as PetscInt], &[col as PetscInt], &[value])
-                            .map_err(e)?;
-                    }
-                }
-                j.assemble().map_err(e)?;
+                obstacle_tangent(x, j, n, k, c, (lo, hi), empty_row)?;
                 let change = if first || !understate {
                     JacobianChange::Unknown
                 } else {
@@ -948,16 +973,7 @@ fn snes_gmres_limit(rt: &Runtime) -> Result<Vec<f64>, String> {
                 Ok(change)
             },
         );
-        let options = NewtonOptions {
-            relative_tolerance: 1e-10,
-            line_search: "basic".into(),
-            keep_factorization_rank: keep,
-            ..Default::default()
-        };
-        let mut snes = NonlinearSolver::new(comm, residual, jacobian, jac, &options).map_err(e)?;
-        let mut x = Vector::new(comm, hi - lo).map_err(e)?;
-        let report = snes.solve(&mut x).map_err(e)?;
-        Ok::<_, String>((x.gather_all().map_err(e)?, report))
+        obstacle_solve(comm, n, (lo, hi), keep, residual, jacobian)
     };
     let (fresh, _) = solve(0, false, false)?;
     let (kept, report) = solve(1, true, false)
@@ -965,12 +981,7 @@ fn snes_gmres_limit(rt: &Runtime) -> Result<Vec<f64>, String> {
     // As in snes_kept_factorization: two solutions with |F| <= 1e-10 |F(0)| of a strongly
     // monotone F (constant > pi^2 - 1) differ by at most 2e-10 sqrt(n) / (pi^2 - 1).
     let f0 = (n as f64).sqrt();
-    let differ = fresh
-        .iter()
-        .zip(&kept)
-        .map(|(a, b)| (a - b).powi(2))
-        .sum::<f64>()
-        .sqrt();
+    let differ = distance(&fresh, &kept);
     if differ > 2e-10 * f0 / (PI * PI - 1.0) {
         return Err(format!("kept vs fresh {differ:e} after {report:?}"));
     }
