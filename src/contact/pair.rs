@@ -275,6 +275,10 @@ pub struct Tilt {
     pub arm: f64,
     /// k_n, N/m^3 (the pair's penalty per unit area).
     pub penalty: f64,
+    /// The pair's surfaces cannot separate (a bilateral pair): every quadrature point
+    /// carries k_n a (-gap), pulling too.
+    #[serde(default)]
+    pub bilateral: bool,
 }
 
 /// The patch law at gap `g` and tilt `theta` ([`Tilt::patch`]): normal force F (on the
@@ -294,7 +298,7 @@ impl Tilt {
         let mut l = PatchLaw::default();
         for &(xi, a) in &self.patch {
             let g = gap + theta[0] * xi[0] + theta[1] * xi[1];
-            if g > 0.0 {
+            if !self.acts(g) {
                 continue;
             }
             let k = self.penalty * a;
@@ -310,6 +314,11 @@ impl Tilt {
             }
         }
         l
+    }
+
+    /// Whether a quadrature point at gap `g` carries the penalty.
+    pub fn acts(&self, g: f64) -> bool {
+        self.bilateral || g <= 0.0
     }
 
     /// theta from the tilt nodes' displacements (u_r = u_rp - u_rd).

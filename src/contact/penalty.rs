@@ -272,13 +272,20 @@ pub fn evaluate(
         jacobian,
     };
     if let (Some(tilt), Some(law)) = (&point.tilt, &patch) {
-        // The direction the force on the slave changes in with the approach: the friction
-        // of a steady-sliding point follows the normal force (patch laws are made for
-        // steady-sliding unilateral pairs only, `reduce::interface`).
-        let mut direction = n;
-        if let (None, Some(t)) = (&tangential, point.tangent) {
-            direction = add(direction, scale(pair.settings.friction, t));
-        }
+        // The direction the force on the slave changes in with the patch's tilt: the
+        // normal, and the friction where it follows the normal force: a steady-sliding
+        // point's mu t, a slipping Coulomb point's f_T / p (on the cone |f_T| = mu p, its
+        // direction set by the tangential motion alone). A sticking point's friction is its
+        // spring's, whatever p.
+        let direction = match &tangential {
+            None => point
+                .tangent
+                .map_or(n, |t| add(n, scale(pair.settings.friction, t))),
+            Some(t) if t.status == Status::Slip && state.normal_force > 0.0 => {
+                add(n, scale(1.0 / state.normal_force, t.force))
+            }
+            Some(_) => n,
+        };
         contribution.add_patch(tilt, law, &weights, direction, n);
     }
     Ok((state, Some(contribution)))
@@ -481,7 +488,7 @@ pub fn zone_stiffness(pair: &ContactPair, states: &[PointState]) -> ZoneStiffnes
             None => zone.add(state.slope, point.position),
             Some(tilt) => {
                 for &(xi, a) in &tilt.patch {
-                    if state.gap + state.theta[0] * xi[0] + state.theta[1] * xi[1] > 0.0 {
+                    if !tilt.acts(state.gap + state.theta[0] * xi[0] + state.theta[1] * xi[1]) {
                         continue;
                     }
                     let at = [0, 1, 2].map(|c| {
@@ -892,14 +899,11 @@ mod tests {
         );
     }
 
-    /// A patch law (a reduced contact with its tilt nodes): the Jacobian against central
-    /// differences with the patch partly closed, symmetric without friction, and the whole
-    /// patch closed with no tilt giving the point law k A (-g).
-    #[test]
-    fn patch_law_jacobian_matches_finite_differences_partly_closed() {
-        let n = [0.0, 0.0, 1.0];
+    /// A reduced contact with its tilt nodes 3, 4: slave nodes 0, 1, master node 2, normal
+    /// z, a 0.2 x 0.2 share as 8 x 8 points offset a little from the contact point, penalty
+    /// 5e10, friction `mu` by `law`.
+    fn patch_pair(mu: f64, law: crate::contact::FrictionLaw) -> ContactPair {
         let e = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
-        // A 0.2 x 0.2 share as 8 x 8 points, offset a little from the contact point.
         let mut patch = Vec::new();
         for i in 0..8 {
             for j in 0..8 {
@@ -908,42 +912,105 @@ mod tests {
                 patch.push(([x, y], 0.04 / 64.0));
             }
         }
+        // A Coulomb pair slips where its forces take it: no imposed direction.
+        let sliding = match law {
+            crate::contact::FrictionLaw::SteadySliding => SlidingDirection::Fixed([0.0, 1.0, 0.0]),
+            crate::contact::FrictionLaw::Coulomb { .. } => SlidingDirection::None,
+        };
+        let tangent = sliding.tangent([0.0; 3], [0.0, 0.0, 1.0]);
+        let settings = PairSettings {
+            name: "reduced".into(),
+            friction: mu,
+            penalty: None,
+            separation: true,
+            sliding,
+            law,
+            calculix: None,
+        };
+        let point = crate::contact::pair::ContactPoint {
+            slave: vec![(0, 0.6), (1, 0.4)],
+            master: vec![(2, 1.0)],
+            normal: [0.0, 0.0, 1.0],
+            initial_gap: 0.0,
+            area: 0.04,
+            tangent,
+            position: [0.0; 3],
+            slave_node: 0,
+            master_face: None,
+            tilt: Some(crate::contact::Tilt {
+                nodes: [3, 4],
+                axes: e,
+                patch,
+                arm: 0.05,
+                penalty: 5e10,
+                bilateral: false,
+            }),
+        };
+        node_to_node(settings, 5e10, vec![point]).unwrap()
+    }
+
+    /// Approach 1e-4, tilt -3e-3 rad along x and -1e-3 along y (theta = e . (u_rp - u_rd) /
+    /// arm, the disc side tilted too): the patch of [`patch_pair`] closed on one side only.
+    fn partly_closed() -> Vec<[f64; 3]> {
+        let mut u = vec![[0.0; 3]; 5];
+        u[0] = [0.0, 0.0, -1e-4];
+        u[1] = [0.0, 0.0, -1e-4];
+        u[3] = [0.05 * -2e-3, 0.05 * -0.5e-3, 0.0];
+        u[4] = [0.05 * 1e-3, 0.05 * 0.5e-3, 0.0];
+        u
+    }
+
+    /// A Coulomb pair's patch law (a kept pair reduced with its tilt nodes): the Jacobian
+    /// against central differences, sticking and slipping, the patch partly closed. Slipping,
+    /// the cone's radius mu p follows the patch's tilt, so the friction force changes with
+    /// the tilt nodes' motion (the rows of the slave and master nodes in the tilt nodes'
+    /// columns): a tangent without that term fails here.
+    #[test]
+    fn coulomb_patch_law_jacobian_matches_finite_differences() {
+        let law = crate::contact::FrictionLaw::Coulomb {
+            stick_stiffness: None,
+        };
+        let p = patch_pair(0.3, law);
+        let u = partly_closed();
+        // The slave's tangential motion is zero: an anchor at zero sticks, one 1.1e-2 m
+        // away pulls the stick spring far past the cone (k_t A |a| = 2.2e5 N against
+        // mu p < 6e4 N).
+        let stick = check_jacobian_from(&p, &[[0.0; 3]], &u);
+        assert_eq!(stick, (1, 1, 0));
+        let slip = check_jacobian_from(&p, &[[1e-2, 5e-3, 0.0]], &u);
+        assert_eq!(slip, (1, 0, 1));
+        let (state, _) = evaluate(&p, &p.points[0], [1e-2, 5e-3, 0.0], &u).unwrap();
+        assert!((norm(state.friction_force) / (0.3 * state.normal_force) - 1.0).abs() < 1e-12);
+        // Bilateral (the piston's pair): every point of the share acts, pulling where open,
+        // so the tilted share pushed 1e-4 carries k A 1e-4 (the tilt's moment about the
+        // share's centre adds nothing to the force where every point acts) and its tangent
+        // is the derivative.
+        let mut bilateral = p.clone();
+        bilateral.settings.separation = false;
+        let tilt = bilateral.points[0].tilt.as_mut().unwrap();
+        tilt.bilateral = true;
+        let centre = [0, 1].map(|a| tilt.patch.iter().map(|q| q.0[a] * q.1).sum::<f64>() / 0.04);
+        let (state, _) = evaluate(&bilateral, &bilateral.points[0], [0.0; 3], &u).unwrap();
+        let theta = state.theta;
+        let expected = 5e10 * 0.04 * (1e-4 - theta[0] * centre[0] - theta[1] * centre[1]);
+        assert!(
+            (state.normal_force / expected - 1.0).abs() < 1e-12,
+            "{state:?}"
+        );
+        assert_eq!(
+            check_jacobian_from(&bilateral, &[[1e-2, 5e-3, 0.0]], &u),
+            (1, 0, 1)
+        );
+    }
+
+    /// A patch law (a reduced contact with its tilt nodes): the Jacobian against central
+    /// differences with the patch partly closed, symmetric without friction, and the whole
+    /// patch closed with no tilt giving the point law k A (-g).
+    #[test]
+    fn patch_law_jacobian_matches_finite_differences_partly_closed() {
         for mu in [0.0, 0.3] {
-            let settings = PairSettings {
-                name: "reduced".into(),
-                friction: mu,
-                penalty: None,
-                separation: true,
-                sliding: SlidingDirection::Fixed([0.0, 1.0, 0.0]),
-                law: crate::contact::FrictionLaw::SteadySliding,
-                calculix: None,
-            };
-            let point = crate::contact::pair::ContactPoint {
-                slave: vec![(0, 0.6), (1, 0.4)],
-                master: vec![(2, 1.0)],
-                normal: n,
-                initial_gap: 0.0,
-                area: 0.04,
-                tangent: Some([0.0, 1.0, 0.0]),
-                position: [0.0; 3],
-                slave_node: 0,
-                master_face: None,
-                tilt: Some(crate::contact::Tilt {
-                    nodes: [3, 4],
-                    axes: e,
-                    patch: patch.clone(),
-                    arm: 0.05,
-                    penalty: 5e10,
-                }),
-            };
-            let p = node_to_node(settings, 5e10, vec![point]).unwrap();
-            // Approach 1e-4, tilt -3e-3 rad along x: the patch closed on one side only.
-            let mut u = vec![[0.0; 3]; 5];
-            u[0] = [0.0, 0.0, -1e-4];
-            u[1] = [0.0, 0.0, -1e-4];
-            // theta = e . (u_rp - u_rd) / arm, the disc side tilted too.
-            u[3] = [0.05 * -2e-3, 0.05 * -0.5e-3, 0.0];
-            u[4] = [0.05 * 1e-3, 0.05 * 0.5e-3, 0.0];
+            let p = patch_pair(mu, crate::contact::FrictionLaw::SteadySliding);
+            let u = partly_closed();
             let (state, c) = evaluate(&p, &p.points[0], [0.0; 3], &u).unwrap();
             let l = p.points[0]
                 .tilt

@@ -296,16 +296,9 @@ pub struct Assembly<'se> {
 }
 
 /// The local contact pair of a boundary pair evaluated by the full model's code (see
-/// [`Assembly::locals`]): a patch law (swept, steady sliding along its own tangent) or a
-/// kept pair's own law.
+/// [`Assembly::locals`]): a swept pair's patch law (steady sliding along its own tangent),
+/// or a kept pair's own law, over its patch where it has one.
 fn local_pair(pair: &BoundaryPair) -> Result<Option<ContactPair>, String> {
-    if pair.tilt.is_some() && pair.own_law.is_some() {
-        return Err(
-            "a kept pair's own law with a patch law: patch laws are made for the swept \
-             (steady-sliding) pairs only"
-                .into(),
-        );
-    }
     let settings = match (&pair.own_law, &pair.tilt) {
         (Some(own), _) => PairSettings {
             // The penalty in use is the boundary pair's (the model's resolved one).
@@ -340,6 +333,7 @@ fn local_pair(pair: &BoundaryPair) -> Result<Option<ContactPair>, String> {
             patch: tilt.patch.clone(),
             arm: tilt.arm,
             penalty: pair.penalty,
+            bilateral: !pair.separation,
         }),
     };
     contact::node_to_node(settings, pair.penalty, vec![point])
@@ -1486,6 +1480,67 @@ mod tests {
         };
         let e = Assembly::new(&se, &cubic).unwrap_err().to_string();
         assert!(e.contains("pad1") && e.contains("patch law"), "{e}");
+    }
+
+    /// The patch-law pair of [`synthetic_patch`] as a kept Coulomb pair on the boundary (its
+    /// own mu 0.3, `[reduction.pairs."name"] tilt = true`): sticking from an anchor at its
+    /// tangential position, slipping on its own cone from one 1 mm away, and in both the
+    /// Jacobian is the derivative of the residual, the tilt nodes' columns included (the
+    /// cone's radius follows the patch's tilt).
+    #[test]
+    fn a_kept_coulomb_pair_with_a_patch_law_sticks_and_slips_by_its_own_law() {
+        let mut se = synthetic_patch();
+        let b = &mut se.header.boundary[1];
+        b.sliding = None;
+        b.own_law = Some(PairSettings {
+            name: "pad1".into(),
+            friction: 0.3,
+            penalty: None,
+            separation: true,
+            sliding: SlidingDirection::None,
+            law: contact::FrictionLaw::Coulomb {
+                stick_stiffness: None,
+            },
+            calculix: None,
+        });
+        let q = se.equilibrium.clone();
+        let rel = sub([q[6], q[7], q[8]], [q[9], q[10], q[11]]);
+        let n = se.header.boundary[1].normal;
+        let tangential = sub(rel, scale(dot(n, rel), n));
+        let far = add(tangential, [1e-3, 0.0, 0.0]);
+        for (anchor, status) in [(tangential, Status::Stick), (far, Status::Slip)] {
+            let asm = Assembly::new(&se, &CubicContact::default())
+                .unwrap()
+                .with_history(vec![[0.0; 3], anchor])
+                .unwrap();
+            // The sweep's friction does not reach it.
+            for mu in [0.2, 0.8] {
+                let state = asm.pair_states(&q, mu)[1];
+                assert_eq!(state.status, status);
+                assert!(
+                    (state.force - 121.875).abs() <= 1e-12 * 121.875,
+                    "{state:?}"
+                );
+                let f = crate::vector3::norm(state.friction_force);
+                if status == Status::Slip {
+                    assert!((f - 0.3 * state.force).abs() <= 1e-12 * f, "{f} {state:?}");
+                } else {
+                    assert!(f < 1e-9 * state.force, "{f} {state:?}");
+                }
+                let (worst, biggest) = jacobian_error(&asm, &q, mu);
+                assert!(
+                    worst <= 1e-6 * biggest,
+                    "{status:?}: worst {worst:e} of {biggest:e}"
+                );
+            }
+            // Slipping, the friction on c (its x row, the slip's direction) follows the
+            // tilt node r_p; sticking it does not (K_r's own entry taken away).
+            let j = asm.jacobian(&q, 0.5);
+            let k = &se.stiffness;
+            let contact = |r: usize, c: usize| j[(r, c)] - k[(r, c)];
+            let coupled = contact(6, 12).abs() > 1e-9 * contact(8, 12).abs();
+            assert_eq!(coupled, status == Status::Slip, "{status:?}");
+        }
     }
 
     #[test]

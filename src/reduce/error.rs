@@ -30,9 +30,9 @@ pub enum ReduceError {
         fraction: f64,
         size: f64,
     },
-    /// Patch laws on a pair whose law they do not integrate: they are squeal's unilateral
-    /// penalty with steady sliding, the swept disc/pad pairs' law.
-    #[error("pair '{pair}': patch laws (reduction.tilt) integrate squeal's unilateral penalty with steady sliding, and this pair has {law}")]
+    /// Patch laws on a pair they cannot carry: CalculiX's contact law (they integrate
+    /// squeal's penalty), or a kept pair's face without share couplings.
+    #[error("pair '{pair}': patch laws (reduction.tilt) integrate squeal's penalty over share couplings, and this pair has {law}")]
     PatchLaw { pair: String, law: String },
     /// A reduced contact node's tilt law cannot be made (its patch gives no slope).
     #[error("warping springs (reduction.warp_springs) stand on patch laws over share couplings: ask for those too (reduction.tilt = true, reduction.pad_coupling = \"share\"), or leave reduction.warp_springs out")]

@@ -12,10 +12,10 @@ impl ReducedInterface {
             .cloned()
             .chain(self.pads.iter().map(|p| {
                 let ks = p.spring_stiffness.iter().fold(0.0, |a: f64, &b| a.max(b));
-                let kept = if p.swept {
-                    ""
-                } else {
-                    " (kept pair, point contacts)"
+                let kept = match (p.swept, p.tilt_nodes.is_empty()) {
+                    (true, _) => "",
+                    (false, true) => " (kept pair, point contacts)",
+                    (false, false) => " (kept pair)",
                 };
                 let at = match p.quadrature {
                     Some(PatchQuadrature::Nodes) => "at the shares' face nodes",
@@ -32,9 +32,12 @@ impl ReducedInterface {
                          nearest neighbour's)"
                     ),
                 };
-                // With share couplings the radius is the disc-side patches' alone.
-                let radius = match p.pad_coupling {
-                    PadCoupling::Share => "pad couplings over the shares; disc-side radius",
+                // With share couplings the radius is the master-side patches' alone.
+                let radius = match (p.pad_coupling, p.swept) {
+                    (PadCoupling::Share, true) => "pad couplings over the shares; disc-side radius",
+                    (PadCoupling::Share, false) => {
+                        "couplings over the shares; master-side radius"
+                    }
                     _ => "radius of influence",
                 };
                 let warp = match p.warp_springs {

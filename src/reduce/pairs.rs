@@ -133,7 +133,7 @@ impl<'de> serde::Deserialize<'de> for ReducePairs {
     }
 }
 
-/// One pair's own grid in a study: `[reduction.pairs."caliper/pad"]`.
+/// One kept pair's own grid and contact law in a study: `[reduction.pairs."caliper/pad"]`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PairGrid {
@@ -143,30 +143,48 @@ pub struct PairGrid {
     /// Or the grid side h (mesh units).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub spacing: Option<f64>,
+    /// Patch laws on its reduced contacts (Coulomb stick and slip, or bilateral, over each
+    /// share); `None` or false: point contacts, the default for a kept pair.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tilt: Option<bool>,
 }
 
 impl PairGrid {
-    /// The grid it asks for, or what is wrong with it.
-    pub fn size(&self) -> Result<GridSize, String> {
+    /// The grid it asks for (`None`: the default grid, where the table sets `tilt` alone),
+    /// or what is wrong with it.
+    pub fn size(&self) -> Result<Option<GridSize>, String> {
         match (self.contact_nodes, self.spacing) {
             (Some(_), Some(_)) => Err("give either contact_nodes or spacing, not both".into()),
-            (None, None) => Err("give contact_nodes or spacing".into()),
+            (None, None) if self.tilt.is_some() => Ok(None),
+            (None, None) => Err("give contact_nodes, spacing or tilt".into()),
             (Some(0), None) => Err("contact_nodes must be at least 1".into()),
-            (Some(n), None) => Ok(GridSize::Count(n)),
+            (Some(n), None) => Ok(Some(GridSize::Count(n))),
             (None, Some(h)) if !(h > 0.0 && h.is_finite()) => {
                 Err(format!("spacing must be finite and > 0, got {h}"))
             }
-            (None, Some(h)) => Ok(GridSize::Spacing(h)),
+            (None, Some(h)) => Ok(Some(GridSize::Spacing(h))),
         }
     }
 
-    /// Every pair's grid, or the first pair whose grid is wrong and why.
+    /// Every pair's own grid (the pairs that give one), or the first pair whose grid is
+    /// wrong and why.
     pub fn sizes(
         grids: &BTreeMap<String, PairGrid>,
     ) -> Result<BTreeMap<String, GridSize>, (String, String)> {
         grids
             .iter()
-            .map(|(name, g)| Ok((name.clone(), g.size().map_err(|e| (name.clone(), e))?)))
+            .filter_map(|(name, g)| match g.size() {
+                Ok(size) => size.map(|s| Ok((name.clone(), s))),
+                Err(e) => Some(Err((name.clone(), e))),
+            })
+            .collect()
+    }
+
+    /// Every pair's `tilt`, where it gives one.
+    pub fn tilts(grids: &BTreeMap<String, PairGrid>) -> BTreeMap<String, bool> {
+        grids
+            .iter()
+            .filter_map(|(name, g)| g.tilt.map(|t| (name.clone(), t)))
             .collect()
     }
 }
@@ -234,9 +252,19 @@ mod tests {
         let g = |n, h| PairGrid {
             contact_nodes: n,
             spacing: h,
+            tilt: None,
         };
-        assert_eq!(g(Some(8), None).size(), Ok(GridSize::Count(8)));
-        assert_eq!(g(None, Some(0.004)).size(), Ok(GridSize::Spacing(0.004)));
+        assert_eq!(g(Some(8), None).size(), Ok(Some(GridSize::Count(8))));
+        assert_eq!(
+            g(None, Some(0.004)).size(),
+            Ok(Some(GridSize::Spacing(0.004)))
+        );
+        // `tilt` alone keeps the default grid.
+        let tilt = PairGrid {
+            tilt: Some(true),
+            ..g(None, None)
+        };
+        assert_eq!(tilt.size(), Ok(None));
         assert!(g(Some(8), Some(0.004))
             .size()
             .unwrap_err()
@@ -251,5 +279,13 @@ mod tests {
         .into_iter()
         .collect();
         assert_eq!(PairGrid::sizes(&grids).unwrap_err().0, "b");
+        let grids: BTreeMap<String, PairGrid> =
+            [("a".to_string(), g(Some(3), None)), ("b".to_string(), tilt)]
+                .into_iter()
+                .collect();
+        assert_eq!(PairGrid::sizes(&grids).unwrap().len(), 1);
+        assert_eq!(PairGrid::tilts(&grids), [("b".to_string(), true)].into());
+        let read: PairGrid = toml::from_str("tilt = true").unwrap();
+        assert_eq!(read, tilt);
     }
 }

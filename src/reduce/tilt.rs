@@ -294,6 +294,7 @@ pub fn node_tilt(
             patch,
             arm,
             penalty,
+            bilateral: false,
         },
         ties,
         arm,
@@ -484,6 +485,7 @@ pub fn shared_tilt(
         patch: share_offsets(share, plane_axes, e),
         arm: owner.arm,
         penalty,
+        bilateral: owner.bilateral,
     })
 }
 
@@ -672,6 +674,7 @@ mod tests {
             patch: share_offsets(&share, plane.axes, [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]),
             arm: 1.0,
             penalty,
+            bilateral: false,
         };
         let centre = [0, 1].map(|i| {
             at.iter()

@@ -147,6 +147,7 @@ mod tests {
             patch: Vec::new(),
             arm: 0.002,
             penalty: 3e12,
+            bilateral: false,
         };
         (coupling, positions, tilt, areas)
     }

@@ -1327,7 +1327,21 @@ mod tests {
         let s = r.settings().unwrap();
         assert_eq!(s.reduce_pairs, ReducePairs::All);
         assert_eq!(s.pair_grids["piston/pad"], GridSize::Count(12));
+        assert!(s.pair_tilts.is_empty());
         let again: ReductionSpec = toml::from_str(&toml::to_string(&r).unwrap()).unwrap();
+        assert_eq!(again, r);
+        // A pair's patch laws alone: its default grid, its patch laws.
+        let r: ReductionSpec = toml::from_str(
+            "contact_nodes_per_pad = 6\nreduce_pairs = \"all\"\n\
+             [pairs.\"piston/pad\"]\ntilt = true\n",
+        )
+        .unwrap();
+        let s = r.settings().unwrap();
+        assert!(s.pair_grids.is_empty());
+        assert_eq!(s.pair_tilts, [("piston/pad".to_string(), true)].into());
+        let written = toml::to_string(&r).unwrap();
+        assert!(written.contains("tilt = true") && !written.contains("contact_nodes = "));
+        let again: ReductionSpec = toml::from_str(&written).unwrap();
         assert_eq!(again, r);
         let p = write(
             "pairs.toml",

@@ -162,6 +162,7 @@ impl ReductionSpec {
             patch_quadrature: self.patch_quadrature,
             reduce_pairs: self.reduce_pairs.clone(),
             pair_grids,
+            pair_tilts: PairGrid::tilts(&self.pairs),
         })
     }
 

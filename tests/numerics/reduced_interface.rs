@@ -522,16 +522,41 @@ fn patch_laws(rt: &Runtime) -> Result<Vec<f64>, String> {
     if rt.world().rank() == 0 {
         eprintln!("mu 0, 22 per pad: mean frequency distance {d_point:.4e} point contacts, {d_patch:.4e} patch laws");
     }
-    // A pair whose law the patch does not integrate is refused by name.
-    let mut bilateral = tiny(0.0);
-    for (pair, &swept) in bilateral.pairs.iter_mut().zip(&bilateral.swept) {
-        if swept {
-            pair.settings.separation = false;
+    // A pair whose law the patch does not integrate (CalculiX's) is refused by name; a
+    // bilateral one is carried, every point of each share pulling as its full pair's do.
+    let swept_with = |change: &dyn Fn(&mut contact::PairSettings)| {
+        let mut model = tiny(0.0);
+        for (pair, &swept) in model.pairs.iter_mut().zip(&model.swept) {
+            if swept {
+                change(&mut pair.settings);
+            }
         }
+        model
+    };
+    let calculix = swept_with(&|s| {
+        s.calculix = Some(contact::CalculixLaw {
+            tension: 1.0,
+            clearance_factor: contact::variant::DEFAULT_CLEARANCE_FACTOR,
+            stick_slope: None,
+        })
+    });
+    match tilted(&calculix) {
+        Err(why) if why.contains("CalculiX") && why.contains("reduction.tilt") => {}
+        other => return Err(format!("CalculiX's law with patch laws: {other:?}")),
     }
-    match tilted(&bilateral) {
-        Err(why) if why.contains("a bilateral pair") && why.contains("reduction.tilt") => {}
-        other => return Err(format!("a bilateral pair with patch laws: {other:?}")),
+    let bilateral = tilted(&swept_with(&|s| s.separation = false))?;
+    let laws = bilateral
+        .pairs
+        .iter()
+        .zip(&bilateral.swept)
+        .filter(|(_, &swept)| swept)
+        .flat_map(|(pair, _)| &pair.points)
+        .map(|p| p.tilt.as_ref().map(|t| t.bilateral));
+    if !laws.clone().all(|b| b == Some(true)) {
+        return Err(format!(
+            "a bilateral pair's patch laws: {:?}",
+            laws.collect::<Vec<_>>()
+        ));
     }
     if d_patch >= d_point {
         return Err(format!(
