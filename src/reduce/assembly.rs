@@ -1247,11 +1247,17 @@ mod tests {
     /// boundary (its own mu 0.3, the default stick stiffness: k_n / 100).
     fn synthetic_kept_coulomb() -> SuperElement {
         let mut se = synthetic();
-        let b = &mut se.header.boundary[0];
+        se.header.boundary[0].pair = "piston/pad".into();
+        make_kept_coulomb(&mut se.header.boundary[0]);
+        se
+    }
+
+    /// Makes `b` a kept Coulomb pair of its own name: mu 0.3, the default stick stiffness,
+    /// no imposed sliding.
+    fn make_kept_coulomb(b: &mut BoundaryPair) {
         b.sliding = None;
-        b.pair = "piston/pad".into();
         b.own_law = Some(PairSettings {
-            name: "piston/pad".into(),
+            name: b.pair.clone(),
             friction: 0.3,
             penalty: None,
             separation: true,
@@ -1261,7 +1267,6 @@ mod tests {
             },
             calculix: None,
         });
-        se
     }
 
     /// Central differences of R against the analytic Jacobian, both from `asm`'s history.
@@ -1490,19 +1495,7 @@ mod tests {
     #[test]
     fn a_kept_coulomb_pair_with_a_patch_law_sticks_and_slips_by_its_own_law() {
         let mut se = synthetic_patch();
-        let b = &mut se.header.boundary[1];
-        b.sliding = None;
-        b.own_law = Some(PairSettings {
-            name: "pad1".into(),
-            friction: 0.3,
-            penalty: None,
-            separation: true,
-            sliding: SlidingDirection::None,
-            law: contact::FrictionLaw::Coulomb {
-                stick_stiffness: None,
-            },
-            calculix: None,
-        });
+        make_kept_coulomb(&mut se.header.boundary[1]);
         let q = se.equilibrium.clone();
         let rel = sub([q[6], q[7], q[8]], [q[9], q[10], q[11]]);
         let n = se.header.boundary[1].normal;
