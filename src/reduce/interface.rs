@@ -155,8 +155,8 @@ pub struct InterfaceSettings {
     pub area_weighting: bool,
     /// Each reduced contact carries its patch law ([`super::tilt`]); false: the paper's
     /// point contacts alone; `None`: patch laws with share couplings, where every swept
-    /// pair slides steadily (squeal's law, not CalculiX's), point contacts otherwise
-    /// (see [`InterfaceSettings::resolved`]).
+    /// pair is unilateral and slides steadily (squeal's law, not CalculiX's), point
+    /// contacts otherwise (see [`InterfaceSettings::resolved`]).
     pub tilt: Option<bool>,
     /// Each share's warping springs ([`super::warp`]): the full model's penalty against the
     /// pad face's warping inside the share, which a patch law does not see. Opt-in: they
@@ -449,11 +449,13 @@ impl InterfaceSettings {
     ) -> Result<(InterfaceSettings, Option<String>), ReduceError> {
         let mut s = self.clone();
         let automatic = s.pad_coupling == PadCoupling::Auto || s.tilt.is_none();
-        // Chosen by default where every swept pair slides steadily: patch laws carry Coulomb
-        // stick and slip too, but nothing has measured them on a swept Coulomb pair.
+        // Chosen by default where every swept pair is unilateral and slides steadily (the
+        // disc/pad pairs): patch laws carry Coulomb stick and slip and bilateral pairs too,
+        // but nothing has measured them on such a swept pair.
         let laws_fit = swept.iter().all(|&i| {
             let pair = &model.pairs[i];
             patch_law_problem(pair).is_none()
+                && pair.settings.separation
                 && pair.settings.law == contact::FrictionLaw::SteadySliding
         });
         if s.pad_coupling == PadCoupling::Auto {
@@ -479,7 +481,7 @@ impl InterfaceSettings {
         }
         let reason = automatic.then(|| {
             let why = if !laws_fit {
-                "a swept pair's law is not squeal's steady sliding"
+                "a swept pair is bilateral or its law is not squeal's steady sliding"
             } else if self.tilt == Some(false) {
                 "point contacts asked for"
             } else if s.pad_coupling == PadCoupling::Share {
