@@ -86,9 +86,10 @@ pub enum ReduceError {
         name: String,
         known: Vec<String>,
     },
-    /// `[reduction.pairs."NAME"]` gives a grid to a pair that is not reduced as a kept pair.
+    /// `[reduction.pairs."NAME"]` gives a grid or `tilt` to a pair that is not reduced as
+    /// a kept pair.
     #[error(
-        "reduction.pairs.\"{pair}\": a grid for a pair that is not reduced as a kept pair: {why}"
+        "reduction.pairs.\"{pair}\": a grid or tilt for a pair that is not reduced as a kept pair: {why}"
     )]
     PairGridUnused { pair: String, why: &'static str },
     /// A kept pair's own grid that is no grid (both or neither of its keys, no node, a side

@@ -871,7 +871,7 @@ fn kept_pairs(model: &Model, settings: &InterfaceSettings) -> Result<Vec<usize>,
                 pair: name.clone(),
                 why: if model.swept[i] {
                     "it is swept: the swept pairs take reduction.contact_nodes_per_pad or \
-                     reduction.spacing"
+                     reduction.spacing, and reduction.tilt"
                 } else {
                     "reduction.reduce_pairs does not reduce it"
                 },
