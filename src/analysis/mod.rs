@@ -1,6 +1,7 @@
 //! What is solved on a model of any size: real modes, static equilibrium, complex
 //! eigenvalues. Every analysis takes assembled operators, not meshes.
 
+pub mod band_count;
 pub mod block_krylov_schur;
 pub mod block_lanczos;
 pub mod blocks;

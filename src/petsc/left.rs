@@ -93,6 +93,12 @@ impl<'a, 'rt> LeftSolver<'a, 'rt> {
         unsafe {
             check(sys::EPSGetST(forward.raw, &mut st))?;
             check(sys::STGetKSP(st, &mut ksp))?;
+            // With `-st_matmode inplace` SLEPc shifted A itself to A - sigma B and shifted
+            // it back after its solve: the KSP would see its operator changed and factorise
+            // A afresh, whose transposed solves have the eigenvalues 1 / s, not
+            // 1 / (s - sigma), and no left vector would match (every target but 0). The
+            // factors of A - sigma B are the ones wanted: keep them.
+            check(sys::KSPSetReusePreconditioner(ksp, sys::PETSC_TRUE))?;
             check(sys::MatGetLocalSize(mass.raw, &mut rows, &mut cols))?;
             check(sys::MatGetSize(mass.raw, &mut big_rows, &mut big_cols))?;
             check(sys::MatCreateVecs(

@@ -44,14 +44,14 @@ use super::constraint_modes::{constraint_modes, InteriorBlocks};
 use super::interface::ReducedInterface;
 use super::residual_vectors::ResidualVectors;
 use super::superelement::{BoundaryPair, BoundaryTilt, SuperElement, SuperElementHeader};
-use crate::analysis::block_lanczos;
 use crate::analysis::cea::{self, CeaError, CeaOptions};
 use crate::analysis::modes::{self, ModeBand, ModesError, ModesOptions};
 use crate::analysis::replicated_factor::ReplicatedFactor;
 use crate::analysis::statics::{self, Configuration, StaticsError};
+use crate::analysis::{band_count, block_lanczos};
 use crate::contact::{self, ContactError, ContactPair};
 use crate::model::Operators;
-use crate::petsc::{Comm, DenseMatrix, IndexSet, Matrix, PetscError, Structure};
+use crate::petsc::{Comm, DenseMatrix, IndexSet, Matrix, PetscError};
 use faer::linalg::solvers::Solve;
 use faer::Mat;
 
@@ -896,11 +896,9 @@ fn unsymmetric_modes<'rt>(
     Ok((m_orthonormal(comm, m_ii, &columns)?, count))
 }
 
-/// How many modes the symmetric part (K_II + K_II^T) / 2 has below the cut-off: one LDL^T
-/// inertia count (Sylvester). The kept contacts' friction, the skew part, moves the modes
-/// only a little, so this is the first build's guess of how many the band holds, the CEA's
-/// `expected_modes` (a guess that costs time when wrong, never modes): its first window then
-/// covers the band, where stepping up from 0 Hz window by window took 8-9 shifts on the
+/// How many modes the symmetric part (K_II + K_II^T) / 2 has below the cut-off
+/// ([`band_count`]): the first build's guess of how many the band holds, the CEA's
+/// `expected_modes`, where stepping up from 0 Hz window by window took 8-9 shifts on the
 /// small caliper. Later builds of a sweep take the previous build's count instead.
 fn symmetric_part_count<'rt>(
     comm: Comm<'rt>,
@@ -908,13 +906,8 @@ fn symmetric_part_count<'rt>(
     m_ii: &Matrix<'rt>,
     cutoff_hz: f64,
 ) -> Result<usize, SuperElementError> {
-    let mut symmetric = k_ii.transpose()?;
-    symmetric.add(1.0, k_ii, Structure::Different)?;
-    symmetric.scale(0.5)?;
     let top = (2.0 * std::f64::consts::PI * cutoff_hz).powi(2);
-    Ok(crate::petsc::eigenvalues_below(
-        comm, &symmetric, m_ii, top,
-    )?)
+    Ok(band_count::symmetric_part_below(comm, k_ii, m_ii, top)?)
 }
 
 /// An M-orthonormal basis of the span of `columns` (this rank's rows), without the

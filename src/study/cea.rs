@@ -144,6 +144,7 @@ fn solve_and_write(
         unstable_threshold: args.unstable_threshold,
         modes_per_target: args.modes_per_target,
         expected_rigid_modes: args.rigid_body_modes,
+        count_first: true,
         ..Default::default()
     };
     let damping = match &set.damping {

@@ -397,6 +397,7 @@ fn complex(
     let options = CeaOptions {
         max_frequency_hz: band.upper,
         expected_rigid_modes: Some(free.iter().map(|b| b.motions.len()).sum()),
+        count_first: true,
         ..Default::default()
     };
     let result = collective(comm, cea::solve(comm, k, m, None, &options))?;

@@ -153,6 +153,7 @@ impl<'rt> FullModel<'rt> {
             unstable_threshold: analysis.unstable_threshold,
             modes_per_target: analysis.window,
             solver: analysis.cea_solver,
+            count_first: true,
             ..Default::default()
         };
         let mut full = Self::new(comm, model, operators, cea, analysis.increments)
@@ -562,6 +563,9 @@ impl<'rt> FrictionModel<'rt> for FullModel<'rt> {
         }
         let sensitivities = held == 0 && self.damping.is_none();
         let mut result = self.cea_about(comm, mu, pairs, after, u, sensitivities)?;
+        // Friction moves modes little from one point to the next, and an edge check's moved
+        // contacts little more: the next CEA sizes its first window on this one's count.
+        self.cea.expected_modes = Some(result.modes.len());
         let t_edge = Instant::now();
         let edge = if self.edge_points > 0 {
             let mut check = EdgeCheck {
@@ -617,9 +621,6 @@ impl<'rt> FrictionModel<'rt> for FullModel<'rt> {
         let Operators { dofs, .. } = &self.operators;
         // The edge's CEAs are their own cost (EdgeCheck::seconds).
         let cea_seconds = t_cea.elapsed().as_secs_f64() - edge.as_ref().map_or(0.0, |c| c.seconds);
-        // Friction moves modes little from one point to the next: the next CEA sizes its
-        // first window on this one's count.
-        self.cea.expected_modes = Some(result.modes.len());
         // Shapes to rank 0: restricted for tracking; full for the unstable ones' VTU.
         let mut tracking_shapes = Vec::with_capacity(result.shapes.len());
         let mut unstable = Vec::new();
