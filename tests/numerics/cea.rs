@@ -200,13 +200,7 @@ fn count_without_negatives(rt: &Runtime) -> Result<Vec<f64>, String> {
             (j, j, kk(b)),
         ]);
     }
-    let k = matrix_from_entries(comm, 2 * blocks, &entries).map_err(e)?;
-    let m = matrix_from_entries(
-        comm,
-        2 * blocks,
-        &(0..2 * blocks).map(|i| (i, i, 1.0)).collect::<Vec<_>>(),
-    )
-    .map_err(e)?;
+    let (k, m) = over_identity(comm, 2 * blocks, &entries)?;
     let f_max = 706.25;
     let guess = band_count::guess(comm, &k, &m, f_max).map_err(e)?;
     if guess != Some(blocks) {
@@ -314,13 +308,18 @@ fn blocks_pencil(comm: squeal::petsc::Comm<'_>) -> Result<(Matrix<'_>, Matrix<'_
         let (i, j) = (2 * b, 2 * b + 1);
         entries.extend([(i, i, kk(b)), (i, j, cc(b)), (j, i, -cc(b)), (j, j, kk(b))]);
     }
-    let k = matrix_from_entries(comm, 2 * BLOCKS, &entries).map_err(e)?;
-    let m = matrix_from_entries(
-        comm,
-        2 * BLOCKS,
-        &(0..2 * BLOCKS).map(|i| (i, i, 1.0)).collect::<Vec<_>>(),
-    )
-    .map_err(e)?;
+    over_identity(comm, 2 * BLOCKS, &entries)
+}
+
+/// K of size n from its entries, over M = I.
+fn over_identity<'rt>(
+    comm: squeal::petsc::Comm<'rt>,
+    n: usize,
+    entries: &[(usize, usize, f64)],
+) -> Result<(Matrix<'rt>, Matrix<'rt>), String> {
+    let k = matrix_from_entries(comm, n, entries).map_err(e)?;
+    let identity: Vec<_> = (0..n).map(|i| (i, i, 1.0)).collect();
+    let m = matrix_from_entries(comm, n, &identity).map_err(e)?;
     Ok((k, m))
 }
 
