@@ -1,11 +1,12 @@
 //! How many modes a band is likely to hold before the CEA has found any: the eigenvalues of
-//! the symmetric part (K + K^T) / 2 below the band's top, counted by one LDL^T inertia
-//! (Sylvester). Friction, the skew part, moves the modes only a little, so the count is the
-//! guess that lets the CEA's first window cover the whole band in one factorisation where
-//! stepping up from 0 Hz window by window takes several. It is a guess: a slipping point's
+//! the symmetric part (K + K^T) / 2 from 0 to the band's top, the difference of two LDL^T
+//! inertia counts (Sylvester). Friction, the skew part, moves the modes only a little, so
+//! the count is the guess that lets the CEA's first window cover the whole band in one
+//! factorisation where stepping up from 0 Hz window by window takes several. It is a guess: a slipping point's
 //! symmetric part is indefinite (`reduce::craig_bampton` explains how far that goes on a
-//! kept pair), so the count may run high, and a count that falls short leaves the stepping
-//! to go on. Either way a wrong count costs time, never modes.
+//! kept pair), which is why the eigenvalues below 0 are counted apart and left out; a count
+//! that falls short leaves the stepping to go on. Either way a wrong count costs time, never
+//! modes.
 
 use crate::petsc::{eigenvalues_below, Comm, Matrix, PetscError, Structure};
 

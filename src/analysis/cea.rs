@@ -57,9 +57,9 @@ pub struct CeaOptions {
     /// when the guess falls short, so a wrong guess costs time, never modes.
     pub expected_modes: Option<usize>,
     /// Without `expected_modes`, count the band first: the eigenvalues of the symmetric
-    /// part of K below the top, by one LDL^T of MUMPS ([`band_count`]), taken as the
-    /// expected count. Costs about half a window's factorisation and saves the windows of
-    /// stepping up from 0 Hz; sparse (AIJ) operators only.
+    /// part of K from 0 to the top, by two LDL^T inertia counts of MUMPS ([`band_count`]),
+    /// taken as the expected count. Costs about one window's factorisation and saves the
+    /// windows of stepping up from 0 Hz; sparse (AIJ) operators only.
     pub count_first: bool,
     pub linear: LinearMethod,
     /// How many rigid-body motions the model has, when the restraint check knows (a loaded

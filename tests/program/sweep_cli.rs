@@ -1381,3 +1381,35 @@ fn contributions_of_every_mode_add_up_to_each_real_part() {
         );
     }
 }
+
+/// `-squeal_cea_count` other than 0 or 1 is refused by name with nothing written, on every
+/// rank at once: given to both ranks, and given to rank 0 alone through its own
+/// `PETSC_OPTIONS` (rank 0 reads the option, so rank 1 must fail too instead of waiting).
+#[test]
+fn a_band_count_switch_other_than_0_or_1_is_refused_on_every_rank() {
+    let o = scratch("count-refused").join("out");
+    let mut args = vec![
+        "sweep",
+        "--preset",
+        "tiny",
+        "--friction",
+        "0.6",
+        "--fmax",
+        "6000",
+    ];
+    args.extend(["-o", o.to_str().unwrap()]);
+    let mut asked = args.clone();
+    asked.extend(["--petsc-options", "-squeal_cea_count yes"]);
+    let e = failure(&asked);
+    assert!(
+        e.contains("-squeal_cea_count yes: 0 or 1 was expected"),
+        "{e}"
+    );
+    assert!(!o.exists(), "a refused run wrote {}", o.display());
+    let bad: &[(&str, &str)] = &[("PETSC_OPTIONS", "-squeal_cea_count yes")];
+    let run = common::mpirun_per_rank(squeal(), &args, &[bad, &[]]);
+    assert!(!common::hung(&run), "{}", common::text(&run));
+    assert!(!run.status.success(), "{}", common::text(&run));
+    assert!(common::text(&run).contains("-squeal_cea_count yes"));
+    assert!(!o.exists(), "a refused run wrote {}", o.display());
+}
